@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# ubr-petsc set-up and main job.
+#   ./run.sh            install what is missing, build, run the paper's Hertz scene on 2 ranks
+#   ./run.sh test       install what is missing, build, run the whole test suite
+#   ./run.sh build      install and build only
+# Works as root or as a user with sudo, on Debian 12.
+set -euo pipefail
+cd "$(dirname "$0")"
+
+PACKAGES=(petsc-dev libopenmpi-dev openmpi-bin libclang-dev pkg-config libopenblas0-serial gmsh python3-meshio)
+
+install_packages() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "run.sh: installing ${missing[*]}" >&2
+  local sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+
+setup_env() {
+  # Open MPI refuses root without these; more ranks than cores need oversubscription.
+  if [ "$(id -u)" -eq 0 ]; then
+    export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+  fi
+  export OMPI_MCA_rmaps_base_oversubscribe=1
+  # Keep BLAS single-threaded under MPI.
+  export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
+  if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
+    export PATH="$HOME/.cargo/bin:$PATH"
+  fi
+}
+
+build() {
+  cargo build --release --locked --quiet || { echo "run.sh: build failed" >&2; exit 1; }
+  [ -x target/release/ubr-petsc ] || { echo "run.sh: build failed" >&2; exit 1; }
+}
+
+install_packages
+setup_env
+case "${1:-run}" in
+  run)
+    build
+    exec mpirun -n 2 target/release/ubr-petsc -options_file options/hertz "${@:2}"
+    ;;
+  test)
+    build
+    # Tests start mpirun themselves; two test binaries at a time on 2 cores.
+    exec cargo test --release --locked -- --test-threads=2 "${@:2}"
+    ;;
+  build)
+    build
+    ;;
+  *)
+    echo "usage: ./run.sh [run|test|build] [extra options]" >&2
+    exit 2
+    ;;
+esac

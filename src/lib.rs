@@ -1,0 +1,14 @@
+//! ubr-petsc: Uzawa block relaxation (Koko 2010) for unilateral contact in
+//! linear elasticity, distributed on PETSc and MPI.
+
+pub mod app;
+pub mod contact;
+pub mod error;
+pub mod fem;
+pub mod mesh;
+pub mod options;
+pub mod petsc;
+pub mod report;
+pub mod solver;
+
+pub use app::{Events, Stages};

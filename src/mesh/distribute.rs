@@ -1,0 +1,439 @@
+//! Distribution of a serial mesh over the ranks.
+//!
+//! Rank 0 holds the whole mesh. METIS partitions the nodal graph into one part
+//! per rank; nodes are renumbered so that each rank owns a contiguous block of
+//! global node numbers (part 0 first). Each rank then receives only the cells
+//! that touch one of its nodes, with every node those cells use (its owned
+//! nodes first, then the "ghost" nodes of its neighbours), and the group
+//! elements that touch one of its nodes. With that, a rank assembles the full
+//! rows of the nodes it owns without any communication.
+
+use super::{Group, Mesh};
+use crate::error::Error;
+use mpi::traits::*;
+use std::collections::HashMap;
+
+/// The part of the mesh a rank works on.
+#[derive(Clone, Debug)]
+pub struct LocalMesh {
+    pub dim: usize,
+    pub global_nodes: usize,
+    pub global_cells: usize,
+    /// First global (renumbered) node this rank owns, and how many.
+    pub owned_start: usize,
+    pub owned_count: usize,
+    /// Global node number of each local node: owned first (contiguous), then ghosts.
+    pub node_global: Vec<usize>,
+    /// The node's tag in the input mesh.
+    pub node_tag: Vec<u64>,
+    pub coords: Vec<f64>,
+    /// Cells touching an owned node, in local numbering.
+    pub cells: Vec<usize>,
+    /// Every group of the mesh, in the same order on every rank; each with the
+    /// elements that touch an owned node.
+    pub groups: Vec<Group>,
+}
+
+impl LocalMesh {
+    pub fn num_local_nodes(&self) -> usize {
+        self.node_global.len()
+    }
+    pub fn num_cells(&self) -> usize {
+        self.cells.len() / (self.dim + 1)
+    }
+    pub fn is_owned(&self, local: usize) -> bool {
+        local < self.owned_count
+    }
+    pub fn group(&self, name: &str) -> Option<&Group> {
+        self.groups.iter().find(|g| g.name == name)
+    }
+    pub fn x(&self, local: usize) -> &[f64] {
+        &self.coords[local * self.dim..(local + 1) * self.dim]
+    }
+}
+
+/// Partitions the nodal graph of `mesh` into `nparts` parts with METIS.
+/// Falls back to contiguous blocks if METIS leaves a part empty.
+pub fn partition_nodes(mesh: &Mesh, nparts: usize) -> Result<Vec<usize>, Error> {
+    let n = mesh.num_nodes();
+    if nparts <= 1 {
+        return Ok(vec![0; n]);
+    }
+    let k = mesh.dim + 1;
+    // Nodal graph in CSR form.
+    let mut adj: Vec<Vec<i32>> = vec![Vec::new(); n];
+    for cell in mesh.cells.chunks(k) {
+        for &a in cell {
+            for &b in cell {
+                if a != b {
+                    adj[a].push(b as i32);
+                }
+            }
+        }
+    }
+    let mut xadj = Vec::with_capacity(n + 1);
+    let mut adjncy = Vec::new();
+    xadj.push(0i32);
+    for list in &mut adj {
+        list.sort_unstable();
+        list.dedup();
+        adjncy.extend_from_slice(list);
+        xadj.push(adjncy.len() as i32);
+    }
+    drop(adj);
+    let mut part = vec![0i32; n];
+    let ok = if n >= nparts {
+        metis::Graph::new(1, nparts as i32, &xadj, &adjncy)
+            .map_err(|e| Error::Internal(format!("METIS: {e}")))?
+            .part_kway(&mut part)
+            .is_ok()
+    } else {
+        false
+    };
+    let mut counts = vec![0usize; nparts];
+    for &p in &part {
+        counts[p as usize] += 1;
+    }
+    if !ok || counts.iter().any(|&c| c == 0) {
+        // Contiguous blocks: every rank owns at least one node when n >= nparts.
+        return Ok((0..n).map(|i| i * nparts / n.max(1)).collect());
+    }
+    Ok(part.into_iter().map(|p| p as usize).collect())
+}
+
+/// Builds the local meshes of all parts from the serial mesh and its node partition.
+pub fn split(mesh: &Mesh, part: &[usize], nparts: usize) -> Vec<LocalMesh> {
+    let n = mesh.num_nodes();
+    let d = mesh.dim;
+    let k = d + 1;
+    // Renumber: by part, then by input order.
+    let mut counts = vec![0usize; nparts];
+    for &p in part {
+        counts[p] += 1;
+    }
+    let mut start = vec![0usize; nparts + 1];
+    for p in 0..nparts {
+        start[p + 1] = start[p] + counts[p];
+    }
+    let mut next = start.clone();
+    let mut new_id = vec![0usize; n];
+    let mut old_of_new = vec![0usize; n];
+    for i in 0..n {
+        let p = part[i];
+        new_id[i] = next[p];
+        old_of_new[next[p]] = i;
+        next[p] += 1;
+    }
+    // Cells per part: each cell goes to every part owning one of its nodes.
+    let mut cells_of: Vec<Vec<usize>> = vec![Vec::new(); nparts];
+    let mut parts_here = Vec::with_capacity(k);
+    for (c, cell) in mesh.cells.chunks(k).enumerate() {
+        parts_here.clear();
+        for &v in cell {
+            if !parts_here.contains(&part[v]) {
+                parts_here.push(part[v]);
+            }
+        }
+        for &p in &parts_here {
+            cells_of[p].push(c);
+        }
+    }
+    let mut locals = Vec::with_capacity(nparts);
+    for p in 0..nparts {
+        let owned_start = start[p];
+        let owned_count = counts[p];
+        let mut node_global: Vec<usize> = (owned_start..owned_start + owned_count).collect();
+        let mut ghost_ids: Vec<usize> = Vec::new();
+        for &c in &cells_of[p] {
+            for &v in &mesh.cells[c * k..(c + 1) * k] {
+                if part[v] != p {
+                    ghost_ids.push(new_id[v]);
+                }
+            }
+        }
+        ghost_ids.sort_unstable();
+        ghost_ids.dedup();
+        let mut local_of_ghost: HashMap<usize, usize> = HashMap::with_capacity(ghost_ids.len());
+        for (j, &g) in ghost_ids.iter().enumerate() {
+            local_of_ghost.insert(g, owned_count + j);
+        }
+        node_global.extend_from_slice(&ghost_ids);
+        let to_local = |old: usize| -> Option<usize> {
+            let g = new_id[old];
+            if part[old] == p {
+                Some(g - owned_start)
+            } else {
+                local_of_ghost.get(&g).copied()
+            }
+        };
+        let mut coords = Vec::with_capacity(node_global.len() * d);
+        let mut node_tag = Vec::with_capacity(node_global.len());
+        for &g in &node_global {
+            let old = old_of_new[g];
+            coords.extend_from_slice(&mesh.coords[old * d..(old + 1) * d]);
+            node_tag.push(mesh.node_tags[old]);
+        }
+        let mut cells = Vec::with_capacity(cells_of[p].len() * k);
+        for &c in &cells_of[p] {
+            for &v in &mesh.cells[c * k..(c + 1) * k] {
+                cells.push(to_local(v).expect("cell node is local"));
+            }
+        }
+        let mut groups = Vec::with_capacity(mesh.groups.len());
+        for g in &mesh.groups {
+            let m = g.nodes_per_element();
+            let mut conn = Vec::new();
+            for e in g.conn.chunks(m) {
+                if e.iter().any(|&v| part[v] == p) && e.iter().all(|&v| to_local(v).is_some()) {
+                    conn.extend(e.iter().map(|&v| to_local(v).unwrap()));
+                }
+            }
+            groups.push(Group {
+                name: g.name.clone(),
+                dim: g.dim,
+                conn,
+            });
+        }
+        locals.push(LocalMesh {
+            dim: d,
+            global_nodes: n,
+            global_cells: mesh.num_cells(),
+            owned_start,
+            owned_count,
+            node_global,
+            node_tag,
+            coords,
+            cells,
+            groups,
+        });
+    }
+    locals
+}
+
+// --- wire format: little-endian u64 / f64, strings as length + bytes -------
+
+struct Writer(Vec<u8>);
+impl Writer {
+    fn u(&mut self, v: usize) {
+        self.0.extend_from_slice(&(v as u64).to_le_bytes());
+    }
+    fn us(&mut self, v: &[usize]) {
+        self.u(v.len());
+        for &x in v {
+            self.u(x);
+        }
+    }
+    fn f(&mut self, v: &[f64]) {
+        self.u(v.len());
+        for &x in v {
+            self.0.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+}
+
+struct Reader<'a>(&'a [u8], usize);
+impl Reader<'_> {
+    fn u(&mut self) -> usize {
+        let v = u64::from_le_bytes(self.0[self.1..self.1 + 8].try_into().unwrap());
+        self.1 += 8;
+        v as usize
+    }
+    fn us(&mut self) -> Vec<usize> {
+        let n = self.u();
+        (0..n).map(|_| self.u()).collect()
+    }
+    fn f(&mut self) -> Vec<f64> {
+        let n = self.u();
+        (0..n)
+            .map(|_| {
+                let v = f64::from_le_bytes(self.0[self.1..self.1 + 8].try_into().unwrap());
+                self.1 += 8;
+                v
+            })
+            .collect()
+    }
+}
+
+fn encode(m: &LocalMesh) -> Vec<u8> {
+    let mut w = Writer(Vec::new());
+    w.u(m.dim);
+    w.u(m.global_nodes);
+    w.u(m.global_cells);
+    w.u(m.owned_start);
+    w.u(m.owned_count);
+    w.us(&m.node_global);
+    let tags: Vec<usize> = m.node_tag.iter().map(|&t| t as usize).collect();
+    w.us(&tags);
+    w.f(&m.coords);
+    w.us(&m.cells);
+    w.u(m.groups.len());
+    for g in &m.groups {
+        w.us(&g.name.bytes().map(|b| b as usize).collect::<Vec<_>>());
+        w.u(g.dim);
+        w.us(&g.conn);
+    }
+    w.0
+}
+
+fn decode(buf: &[u8]) -> LocalMesh {
+    let mut r = Reader(buf, 0);
+    let dim = r.u();
+    let global_nodes = r.u();
+    let global_cells = r.u();
+    let owned_start = r.u();
+    let owned_count = r.u();
+    let node_global = r.us();
+    let node_tag = r.us().into_iter().map(|t| t as u64).collect();
+    let coords = r.f();
+    let cells = r.us();
+    let ng = r.u();
+    let groups = (0..ng)
+        .map(|_| {
+            let name: Vec<u8> = r.us().into_iter().map(|b| b as u8).collect();
+            Group {
+                name: String::from_utf8_lossy(&name).into_owned(),
+                dim: r.u(),
+                conn: r.us(),
+            }
+        })
+        .collect();
+    LocalMesh {
+        dim,
+        global_nodes,
+        global_cells,
+        owned_start,
+        owned_count,
+        node_global,
+        node_tag,
+        coords,
+        cells,
+        groups,
+    }
+}
+
+/// Rank 0 runs `load` (read or generate) and `partition` (the local meshes of
+/// every rank, e.g. [`partition_nodes`] then [`split`]); every rank gets its
+/// local mesh. An error on rank 0 reaches every rank, so the caller's error
+/// handling stays collective.
+pub fn distribute<C: Communicator>(
+    world: &C,
+    load: impl FnOnce() -> Result<Mesh, Error>,
+    partition: impl FnOnce(&Mesh) -> Result<Vec<LocalMesh>, Error>,
+) -> Result<LocalMesh, Error> {
+    let rank = world.rank();
+    let root = world.process_at_rank(0);
+    if rank == 0 {
+        let outcome = load().and_then(|mesh| partition(&mesh));
+        match outcome {
+            Err(e) => {
+                let mut status = [2u64];
+                let mut msg = e.to_string().into_bytes();
+                if !matches!(e, Error::BadInput(_)) {
+                    status[0] = 1;
+                }
+                let mut len = [msg.len() as u64];
+                root.broadcast_into(&mut status[..]);
+                root.broadcast_into(&mut len[..]);
+                root.broadcast_into(&mut msg[..]);
+                Err(e)
+            }
+            Ok(mut locals) => {
+                let mut status = [0u64];
+                root.broadcast_into(&mut status[..]);
+                for (p, local) in locals.iter().enumerate().skip(1) {
+                    let buf = encode(local);
+                    world.process_at_rank(p as i32).send(&buf[..]);
+                }
+                locals.truncate(1);
+                Ok(locals.pop().unwrap())
+            }
+        }
+    } else {
+        let mut status = [0u64];
+        root.broadcast_into(&mut status[..]);
+        if status[0] != 0 {
+            let mut len = [0u64];
+            root.broadcast_into(&mut len[..]);
+            let mut msg = vec![0u8; len[0] as usize];
+            root.broadcast_into(&mut msg[..]);
+            let text = String::from_utf8_lossy(&msg).into_owned();
+            let text = text.strip_prefix("error: ").unwrap_or(&text).to_string();
+            return Err(if status[0] == 2 {
+                Error::BadInput(text)
+            } else {
+                Error::Internal(text)
+            });
+        }
+        let (buf, _) = root.receive_vec::<u8>();
+        Ok(decode(&buf))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square() -> Mesh {
+        // 3x3 nodes, 8 triangles.
+        let mut coords = Vec::new();
+        for j in 0..3 {
+            for i in 0..3 {
+                coords.push(i as f64);
+                coords.push(j as f64);
+            }
+        }
+        let mut cells = Vec::new();
+        for j in 0..2 {
+            for i in 0..2 {
+                let a = j * 3 + i;
+                cells.extend_from_slice(&[a, a + 1, a + 4, a, a + 4, a + 3]);
+            }
+        }
+        Mesh {
+            dim: 2,
+            coords,
+            node_tags: (1..=9).collect(),
+            cells,
+            groups: vec![Group {
+                name: "bottom".into(),
+                dim: 1,
+                conn: vec![0, 1, 1, 2],
+            }],
+        }
+    }
+
+    #[test]
+    fn split_covers_every_node_once_and_roundtrips() {
+        let m = square();
+        let part: Vec<usize> = (0..9).map(|i| if i % 3 < 2 { 0 } else { 1 }).collect();
+        let locals = split(&m, &part, 2);
+        let owned: usize = locals.iter().map(|l| l.owned_count).sum();
+        assert_eq!(owned, 9);
+        assert_eq!(locals[0].owned_start, 0);
+        assert_eq!(locals[1].owned_start, 6);
+        for l in &locals {
+            let back = decode(&encode(l));
+            assert_eq!(back.node_global, l.node_global);
+            assert_eq!(back.cells, l.cells);
+            assert_eq!(back.coords, l.coords);
+            assert_eq!(back.groups, l.groups);
+            // every cell touches an owned node
+            for c in l.cells.chunks(3) {
+                assert!(c.iter().any(|&v| l.is_owned(v)));
+            }
+        }
+        // Part 1 owns column x=2: its cells are the 4 touching it.
+        assert_eq!(locals[1].num_cells(), 4);
+        // The bottom group's element (2,3) touches part 1's node 2 (old index 2).
+        assert_eq!(locals[1].groups[0].len(), 1);
+        assert_eq!(locals[0].groups[0].len(), 2);
+    }
+
+    #[test]
+    fn metis_partition_is_balanced() {
+        let m = square();
+        let part = partition_nodes(&m, 2).unwrap();
+        let c0 = part.iter().filter(|&&p| p == 0).count();
+        assert!((3..=6).contains(&c0));
+    }
+}

@@ -1,0 +1,2073 @@
+//! Reader for Gmsh `.msh` mesh files.
+//!
+//! # Supported
+//!
+//! * MSH **2.2** and MSH **4.1**, each in **ASCII** and **binary** form. Binary
+//!   files must have data size 8 (`double`, and `size_t` in 4.1); both byte
+//!   orders are accepted (the endianness marker in `$MeshFormat` decides).
+//!   Any other version (1.0, 2.0, 3.0, 4.0, ...) is an error naming the version.
+//! * Sections: `$MeshFormat`, `$PhysicalNames` (optional), `$Entities` (4.1:
+//!   maps element blocks to physical tags), `$Nodes`, `$Elements`. Other
+//!   sections (`$Periodic`, `$NodeData`, `$Comments`, ...) are skipped up to
+//!   their `$End...` line. Partitioned 4.1 meshes (`$PartitionedEntities`) are
+//!   not supported.
+//! * Element types 15 (point), 1 (2-node line), 2 (3-node triangle) and
+//!   4 (4-node tetrahedron). Any other type is an error.
+//!
+//! # Result
+//!
+//! The mesh is 3D when there are tetrahedra, else 2D when there are
+//! triangles (the z coordinate is dropped: the triangles must lie in a plane
+//! z = constant), else an error. [`Mesh::cells`] holds every element of the
+//! top dimension, with or without a physical group. Every physical group of lower dimension becomes a [`Group`], named
+//! from `$PhysicalNames` (or the decimal tag when unnamed); groups come in the
+//! order in which their first element appears, followed by named groups that
+//! have no elements (in `$PhysicalNames` order). Lower-dimensional elements
+//! without a physical group are ignored. In 2.2 the physical tag is the first
+//! element tag (0 = none); Gmsh writes an element once per physical group, so
+//! a cell that repeats the previous element's type and nodes is counted once.
+//! In 4.1 the physical tags come from the block's entity in `$Entities` (an
+//! element belongs to each of them; without `$Entities` there are no groups).
+//!
+//! Nodes are kept in file order; [`Mesh::node_tags`] holds the file's tags
+//! (any `u64`, not necessarily contiguous). Nodes that no cell uses are
+//! dropped at the end ([`Mesh::drop_unused_nodes`]).
+//!
+//! # Errors
+//!
+//! Every problem (truncation, bad number, count mismatch, missing `$End`
+//! marker or section, undefined node, unsupported type or version, ...) is a
+//! one-line [`MeshError`]: `file:line: what` while the file is read as text,
+//! `file: byte offset: what` for binary files. Whatever the bytes, the parser
+//! never panics, and its allocations stay proportional to the input size
+//! (header counts are not trusted).
+
+use super::{Group, Mesh, MeshError};
+use std::collections::hash_map::Entry;
+use std::collections::{HashMap, HashSet};
+use std::fmt;
+use std::path::Path;
+
+type Res<T> = Result<T, MeshError>;
+
+/// Reads and parses the Gmsh file at `path` (see [`parse_gmsh`]).
+pub fn read_gmsh(path: &Path) -> Result<Mesh, MeshError> {
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| MeshError(format!("{name}: cannot read: {e}")))?;
+    parse_gmsh(&bytes, &name)
+}
+
+/// Parses the bytes of a Gmsh file; `file_name` is only used in error messages.
+pub fn parse_gmsh(bytes: &[u8], file_name: &str) -> Result<Mesh, MeshError> {
+    Reader::new(bytes, file_name).parse()
+}
+
+/// Dimension of a supported Gmsh element type; its node count is dimension + 1.
+fn element_dim(gmsh_type: i32) -> Option<usize> {
+    match gmsh_type {
+        15 => Some(0),
+        1 => Some(1),
+        2 => Some(2),
+        4 => Some(3),
+        _ => None,
+    }
+}
+
+/// A token for an error message: escaped to one line, and shortened.
+fn show(tok: &[u8]) -> String {
+    const MAX: usize = 40;
+    let mut s = tok.get(..MAX).unwrap_or(tok).escape_ascii().to_string();
+    if tok.len() > MAX {
+        s.push_str("...");
+    }
+    s
+}
+
+fn parse_u64(t: &[u8]) -> Option<u64> {
+    let t = t.strip_prefix(b"+").unwrap_or(t);
+    if t.is_empty() {
+        return None;
+    }
+    let mut v: u64 = 0;
+    for &c in t {
+        let d = c.wrapping_sub(b'0');
+        if d > 9 {
+            return None;
+        }
+        v = v.checked_mul(10)?.checked_add(u64::from(d))?;
+    }
+    Some(v)
+}
+
+fn parse_i32(t: &[u8]) -> Option<i32> {
+    match t.strip_prefix(b"-") {
+        Some(digits) if !digits.starts_with(b"+") => {
+            i32::try_from(-i64::try_from(parse_u64(digits)?).ok()?).ok()
+        }
+        Some(_) => None,
+        None => i32::try_from(parse_u64(t)?).ok(),
+    }
+}
+
+fn parse_f64(t: &[u8]) -> Option<f64> {
+    std::str::from_utf8(t).ok()?.parse().ok()
+}
+
+const NO_INDEX: usize = usize::MAX;
+
+/// Node tag -> node index: a dense vector while the tags are small compared
+/// with the number of nodes, a hash map otherwise.
+enum NodeMap {
+    Dense(Vec<usize>),
+    Sparse(HashMap<u64, usize>),
+}
+
+impl NodeMap {
+    /// Records `tag -> idx`; false if the tag is already there.
+    fn insert(&mut self, tag: u64, idx: usize) -> bool {
+        match self {
+            NodeMap::Dense(v) => {
+                if let Some(slot) = usize::try_from(tag).ok().and_then(|t| v.get_mut(t)) {
+                    if *slot != NO_INDEX {
+                        return false;
+                    }
+                    *slot = idx;
+                    return true;
+                }
+                // The dense table never exceeds about twice the node count.
+                let limit = (idx as u64).saturating_mul(2).saturating_add(1024);
+                match usize::try_from(tag) {
+                    Ok(t) if tag < limit => {
+                        let want = (v.len() as u64).saturating_mul(2).min(limit);
+                        let len = usize::try_from(want).unwrap_or(t).max(t.saturating_add(1));
+                        v.resize(len, NO_INDEX);
+                        if let Some(slot) = v.get_mut(t) {
+                            *slot = idx;
+                        }
+                        true
+                    }
+                    _ => {
+                        let mut m: HashMap<u64, usize> = v
+                            .iter()
+                            .enumerate()
+                            .filter(|&(_, &i)| i != NO_INDEX)
+                            .map(|(t, &i)| (t as u64, i))
+                            .collect();
+                        m.insert(tag, idx);
+                        *self = NodeMap::Sparse(m);
+                        true
+                    }
+                }
+            }
+            NodeMap::Sparse(m) => match m.entry(tag) {
+                Entry::Occupied(_) => false,
+                Entry::Vacant(e) => {
+                    e.insert(idx);
+                    true
+                }
+            },
+        }
+    }
+
+    fn get(&self, tag: u64) -> Option<usize> {
+        match self {
+            NodeMap::Dense(v) => usize::try_from(tag)
+                .ok()
+                .and_then(|t| v.get(t))
+                .copied()
+                .filter(|&i| i != NO_INDEX),
+            NodeMap::Sparse(m) => m.get(&tag).copied(),
+        }
+    }
+}
+
+/// A physical group being filled.
+struct GroupAcc {
+    dim: usize,
+    tag: i32,
+    conn: Vec<usize>,
+}
+
+struct Reader<'a> {
+    b: &'a [u8],
+    pos: usize,
+    file: &'a str,
+    /// Binary file: errors give byte offsets instead of lines.
+    binary: bool,
+    /// Big-endian binary data.
+    swap: bool,
+    /// MSH 4.1 (else 2.2).
+    v4: bool,
+    /// Current section, for "unexpected end of file in ...".
+    section: &'static str,
+    names: HashMap<(usize, i32), String>,
+    name_order: Vec<(usize, i32)>,
+    /// 4.1 `(dim, entity tag) -> range` in `entity_phys`.
+    entities: Option<HashMap<(usize, i32), (usize, usize)>>,
+    entity_phys: Vec<i32>,
+    /// Three coordinates per node.
+    coords: Vec<f64>,
+    node_tags: Vec<u64>,
+    node_map: NodeMap,
+    nodes_seen: bool,
+    /// Offset of the `$Nodes` header.
+    nodes_at: usize,
+    /// Offset of the `$Elements` header, once seen.
+    elements_at: Option<usize>,
+    tris: Vec<usize>,
+    tets: Vec<usize>,
+    groups: Vec<GroupAcc>,
+    group_index: HashMap<(usize, i32), usize>,
+    last_group: Option<(usize, i32, usize)>,
+    /// Group connectivity entries so far (4.1 can multiply them by entity).
+    group_entries: usize,
+    /// Previous 2.2 element (dimension, nodes), to skip Gmsh's repeated cells.
+    prev_v2: Option<(usize, [usize; 4])>,
+}
+
+impl<'a> Reader<'a> {
+    fn new(b: &'a [u8], file: &'a str) -> Self {
+        Reader {
+            b,
+            pos: 0,
+            file,
+            binary: false,
+            swap: false,
+            v4: false,
+            section: "$MeshFormat",
+            names: HashMap::new(),
+            name_order: Vec::new(),
+            entities: None,
+            entity_phys: Vec::new(),
+            coords: Vec::new(),
+            node_tags: Vec::new(),
+            node_map: NodeMap::Dense(Vec::new()),
+            nodes_seen: false,
+            nodes_at: 0,
+            elements_at: None,
+            tris: Vec::new(),
+            tets: Vec::new(),
+            groups: Vec::new(),
+            group_index: HashMap::new(),
+            last_group: None,
+            group_entries: 0,
+            prev_v2: None,
+        }
+    }
+
+    // ----- errors -----
+
+    fn err(&self, at: usize, what: impl fmt::Display) -> MeshError {
+        if self.binary {
+            MeshError(format!("{}: byte {}: {}", self.file, at, what))
+        } else {
+            MeshError(format!("{}:{}: {}", self.file, self.line_of(at), what))
+        }
+    }
+
+    /// 1-based line of byte `at`; the end of a file that ends with a newline
+    /// counts as its last line.
+    fn line_of(&self, at: usize) -> usize {
+        let mut end = at.min(self.b.len());
+        if end == self.b.len() && self.b.last() == Some(&b'\n') {
+            end -= 1;
+        }
+        let before = self.b.get(..end).unwrap_or(self.b);
+        before.iter().filter(|&&c| c == b'\n').count() + 1
+    }
+
+    fn eof(&self) -> MeshError {
+        self.err(
+            self.b.len(),
+            format_args!("unexpected end of file in {}", self.section),
+        )
+    }
+
+    /// Error for token `tok` at `at` that should have been a `what`.
+    fn bad(&self, at: usize, tok: &[u8], what: &str) -> MeshError {
+        if tok.first() == Some(&b'$') {
+            self.err(
+                at,
+                format_args!(
+                    "expected {what}, found `{}` (fewer entries than the header count?)",
+                    show(tok)
+                ),
+            )
+        } else {
+            self.err(at, format_args!("bad {what} `{}`", show(tok)))
+        }
+    }
+
+    // ----- text -----
+
+    fn rest(&self) -> &'a [u8] {
+        self.b.get(self.pos..).unwrap_or(&[])
+    }
+
+    fn remaining(&self) -> usize {
+        self.b.len().saturating_sub(self.pos)
+    }
+
+    /// `n`, capped by what the rest of the input can hold at `min_bytes` each.
+    fn cap(&self, n: u64, min_bytes: usize) -> usize {
+        usize::try_from(n)
+            .unwrap_or(usize::MAX)
+            .min(self.remaining() / min_bytes.max(1))
+    }
+
+    fn skip_ws(&mut self) {
+        let r = self.rest();
+        self.pos += r
+            .iter()
+            .position(|c| !c.is_ascii_whitespace())
+            .unwrap_or(r.len());
+    }
+
+    /// Start of the next value: skips whitespace in text mode.
+    fn here(&mut self) -> usize {
+        if !self.binary {
+            self.skip_ws();
+        }
+        self.pos
+    }
+
+    /// The next whitespace-separated token and its offset.
+    fn token(&mut self) -> Res<(usize, &'a [u8])> {
+        self.skip_ws();
+        let r = self.rest();
+        let n = r
+            .iter()
+            .position(|c| c.is_ascii_whitespace())
+            .unwrap_or(r.len());
+        if n == 0 {
+            return Err(self.eof());
+        }
+        let at = self.pos;
+        self.pos += n;
+        Ok((at, r.get(..n).unwrap_or(r)))
+    }
+
+    fn a_u64(&mut self, what: &str) -> Res<u64> {
+        let (at, t) = self.token()?;
+        parse_u64(t).ok_or_else(|| self.bad(at, t, what))
+    }
+
+    fn a_i32(&mut self, what: &str) -> Res<i32> {
+        let (at, t) = self.token()?;
+        parse_i32(t).ok_or_else(|| self.bad(at, t, what))
+    }
+
+    /// Consumes the rest of a header line (before binary data).
+    fn end_of_line(&mut self) -> Res<()> {
+        let r = self.rest();
+        let n = r
+            .iter()
+            .position(|&c| !matches!(c, b' ' | b'\t' | b'\r'))
+            .unwrap_or(r.len());
+        match r.get(n) {
+            Some(b'\n') => {
+                self.pos += n + 1;
+                Ok(())
+            }
+            Some(_) => Err(self.err(self.pos + n, "expected end of line before binary data")),
+            None => Err(self.eof()),
+        }
+    }
+
+    fn expect_end(&mut self, name: &'static str) -> Res<()> {
+        let Ok((at, t)) = self.token() else {
+            return Err(self.err(
+                self.b.len(),
+                format_args!(
+                    "unexpected end of file in {} (missing {name})",
+                    self.section
+                ),
+            ));
+        };
+        if t == name.as_bytes() {
+            Ok(())
+        } else if t.first() == Some(&b'$') {
+            Err(self.err(at, format_args!("expected {name}, found `{}`", show(t))))
+        } else {
+            Err(self.err(
+                at,
+                format_args!(
+                    "expected {name}, found `{}` (more entries than the header count?)",
+                    show(t)
+                ),
+            ))
+        }
+    }
+
+    /// A quoted name on the current line.
+    fn quoted(&mut self) -> Res<String> {
+        let r = self.rest();
+        let n = r
+            .iter()
+            .position(|&c| !matches!(c, b' ' | b'\t' | b'\r'))
+            .unwrap_or(r.len());
+        let at = self.pos + n;
+        match r.get(n) {
+            Some(b'"') => {}
+            Some(_) => return Err(self.err(at, "expected a quoted physical name")),
+            None => return Err(self.eof()),
+        }
+        let body = r.get(n + 1..).unwrap_or(&[]);
+        let len = body
+            .iter()
+            .position(|&c| c == b'"' || c == b'\n')
+            .unwrap_or(body.len());
+        if body.get(len) != Some(&b'"') {
+            return Err(self.err(at, "unterminated physical name"));
+        }
+        let name = std::str::from_utf8(body.get(..len).unwrap_or(&[]))
+            .map_err(|_| self.err(at, "physical name is not valid UTF-8"))?;
+        self.pos = at + len + 2;
+        Ok(name.to_owned())
+    }
+
+    // ----- binary -----
+
+    fn arr<const N: usize>(&mut self) -> Res<[u8; N]> {
+        let a: Option<[u8; N]> = self.rest().get(..N).and_then(|s| s.try_into().ok());
+        match a {
+            Some(a) => {
+                self.pos += N;
+                Ok(a)
+            }
+            None => Err(self.eof()),
+        }
+    }
+
+    fn b_i32(&mut self) -> Res<i32> {
+        let a = self.arr::<4>()?;
+        Ok(if self.swap {
+            i32::from_be_bytes(a)
+        } else {
+            i32::from_le_bytes(a)
+        })
+    }
+
+    fn b_u64(&mut self) -> Res<u64> {
+        let a = self.arr::<8>()?;
+        Ok(if self.swap {
+            u64::from_be_bytes(a)
+        } else {
+            u64::from_le_bytes(a)
+        })
+    }
+
+    fn b_f64(&mut self) -> Res<f64> {
+        let a = self.arr::<8>()?;
+        Ok(if self.swap {
+            f64::from_be_bytes(a)
+        } else {
+            f64::from_le_bytes(a)
+        })
+    }
+
+    // ----- values in either form (4.1 types: int, size_t, double) -----
+
+    fn int(&mut self, what: &str) -> Res<i32> {
+        if self.binary {
+            self.b_i32()
+        } else {
+            self.a_i32(what)
+        }
+    }
+
+    fn size(&mut self, what: &str) -> Res<u64> {
+        if self.binary {
+            self.b_u64()
+        } else {
+            self.a_u64(what)
+        }
+    }
+
+    fn real(&mut self, what: &str) -> Res<f64> {
+        if self.binary {
+            self.b_f64()
+        } else {
+            let (at, t) = self.token()?;
+            parse_f64(t).ok_or_else(|| self.bad(at, t, what))
+        }
+    }
+
+    fn coord(&mut self) -> Res<f64> {
+        let at = self.here();
+        let x = self.real("coordinate")?;
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(self.err(at, format_args!("non-finite coordinate {x}")))
+        }
+    }
+
+    // ----- file structure -----
+
+    fn parse(mut self) -> Res<Mesh> {
+        match self.token() {
+            Ok((_, t)) if t == b"$MeshFormat" => {}
+            _ => return Err(self.err(0, "not a Gmsh mesh file (no $MeshFormat)")),
+        }
+        let (at, v) = self.token()?;
+        self.v4 = match v {
+            b"2.2" => false,
+            b"4.1" => true,
+            _ => {
+                return Err(self.err(
+                    at,
+                    format_args!(
+                        "unsupported MSH version {} (only 2.2 and 4.1 are supported)",
+                        show(v)
+                    ),
+                ))
+            }
+        };
+        let (at, ft) = self.token()?;
+        match ft {
+            b"0" => {}
+            b"1" => self.binary = true,
+            _ => {
+                return Err(self.err(
+                    at,
+                    format_args!("bad file type `{}` (0 = ASCII, 1 = binary)", show(ft)),
+                ))
+            }
+        }
+        let (at, ds) = self.token()?;
+        if self.binary && ds != b"8" {
+            return Err(self.err(
+                at,
+                format_args!("unsupported data size `{}` (binary files need 8)", show(ds)),
+            ));
+        }
+        if parse_u64(ds).is_none() {
+            return Err(self.bad(at, ds, "data size"));
+        }
+        if self.binary {
+            self.end_of_line()?;
+            let at = self.pos;
+            let m = self.arr::<4>()?;
+            if i32::from_le_bytes(m) == 1 {
+                self.swap = false;
+            } else if i32::from_be_bytes(m) == 1 {
+                self.swap = true;
+            } else {
+                return Err(self.err(at, "bad endianness marker (expected the integer 1)"));
+            }
+        }
+        self.expect_end("$EndMeshFormat")?;
+
+        loop {
+            self.section = "the file";
+            self.skip_ws();
+            if self.pos >= self.b.len() {
+                break;
+            }
+            let (at, t) = self.token()?;
+            match t {
+                b"$PhysicalNames" => self.physical_names()?,
+                b"$Entities" if self.v4 => self.entities(at)?,
+                b"$PartitionedEntities" if self.v4 => {
+                    return Err(self.err(
+                        at,
+                        "partitioned meshes ($PartitionedEntities) are not supported",
+                    ))
+                }
+                b"$Nodes" => self.nodes(at)?,
+                b"$Elements" => self.elements(at)?,
+                b"$MeshFormat" => return Err(self.err(at, "duplicate $MeshFormat section")),
+                _ if t.starts_with(b"$") && !t.starts_with(b"$End") => self.skip_section(at, t)?,
+                _ => {
+                    return Err(self.err(
+                        at,
+                        format_args!(
+                            "expected a section header such as $Nodes, found `{}`",
+                            show(t)
+                        ),
+                    ))
+                }
+            }
+        }
+        self.finish()
+    }
+
+    /// Skips an unknown section `$Name` up to its `$EndName` line.
+    fn skip_section(&mut self, at: usize, header: &[u8]) -> Res<()> {
+        let name = header.get(1..).unwrap_or(&[]);
+        let mut end_marker = b"$End".to_vec();
+        end_marker.extend_from_slice(name);
+        let mut i = self.pos;
+        while let Some(off) = self
+            .b
+            .get(i..)
+            .and_then(|r| r.iter().position(|&c| c == b'$'))
+        {
+            let p = i + off;
+            let line_start = p == 0 || self.b.get(p - 1).is_some_and(u8::is_ascii_whitespace);
+            let cand = self.b.get(p..).unwrap_or(&[]);
+            if line_start
+                && cand.starts_with(&end_marker)
+                && cand
+                    .get(end_marker.len())
+                    .is_none_or(u8::is_ascii_whitespace)
+            {
+                self.pos = p + end_marker.len();
+                return Ok(());
+            }
+            i = p + 1;
+        }
+        Err(self.err(
+            at,
+            format_args!(
+                "section `{}` has no `{}` line",
+                show(header),
+                show(&end_marker)
+            ),
+        ))
+    }
+
+    fn physical_names(&mut self) -> Res<()> {
+        self.section = "$PhysicalNames";
+        let n = self.a_u64("number of physical names")?;
+        for _ in 0..n {
+            let (at, t) = self.token()?;
+            let dim = match parse_u64(t) {
+                Some(d) if d <= 3 => d as usize,
+                _ => return Err(self.bad(at, t, "physical dimension (0 to 3)")),
+            };
+            let tag = self.a_i32("physical tag")?;
+            let name = self.quoted()?;
+            if self.names.insert((dim, tag), name).is_some() {
+                return Err(self.err(
+                    at,
+                    format_args!("duplicate physical name for dimension {dim}, tag {tag}"),
+                ));
+            }
+            self.name_order.push((dim, tag));
+        }
+        self.expect_end("$EndPhysicalNames")
+    }
+
+    fn entities(&mut self, at: usize) -> Res<()> {
+        if self.entities.is_some() {
+            return Err(self.err(at, "duplicate $Entities section"));
+        }
+        if self.elements_at.is_some() {
+            return Err(self.err(at, "$Entities must come before $Elements"));
+        }
+        self.section = "$Entities";
+        if self.binary {
+            self.end_of_line()?;
+        }
+        let mut counts = [0u64; 4];
+        for c in &mut counts {
+            *c = self.size("number of entities")?;
+        }
+        let mut map = HashMap::new();
+        for (dim, &n) in counts.iter().enumerate() {
+            for _ in 0..n {
+                let at = self.here();
+                let tag = self.int("entity tag")?;
+                for _ in 0..if dim == 0 { 3 } else { 6 } {
+                    self.real("entity coordinate")?;
+                }
+                let np = self.size("number of physical tags")?;
+                let start = self.entity_phys.len();
+                for _ in 0..np {
+                    let p = self.int("physical tag")?;
+                    self.entity_phys.push(p);
+                }
+                let end = self.entity_phys.len();
+                if dim > 0 {
+                    let nb = self.size("number of bounding entities")?;
+                    if self.binary {
+                        let bytes = usize::try_from(nb)
+                            .ok()
+                            .and_then(|n| n.checked_mul(4))
+                            .filter(|&n| n <= self.remaining())
+                            .ok_or_else(|| self.eof())?;
+                        self.pos += bytes;
+                    } else {
+                        for _ in 0..nb {
+                            self.int("bounding entity tag")?;
+                        }
+                    }
+                }
+                if map.insert((dim, tag), (start, end)).is_some() {
+                    return Err(self.err(
+                        at,
+                        format_args!("duplicate entity (dimension {dim}, tag {tag})"),
+                    ));
+                }
+            }
+        }
+        self.entities = Some(map);
+        self.expect_end("$EndEntities")
+    }
+
+    fn nodes(&mut self, at: usize) -> Res<()> {
+        if self.nodes_seen {
+            return Err(self.err(at, "duplicate $Nodes section"));
+        }
+        self.section = "$Nodes";
+        self.nodes_at = at;
+        if self.v4 {
+            self.nodes_v4()?;
+        } else {
+            self.nodes_v2()?;
+        }
+        self.nodes_seen = true;
+        self.expect_end("$EndNodes")
+    }
+
+    fn reserve_nodes(&mut self, n: usize) {
+        self.node_tags.reserve(n);
+        self.coords.reserve(n.saturating_mul(3));
+    }
+
+    fn add_node_tag(&mut self, at: usize, tag: u64) -> Res<()> {
+        if !self.node_map.insert(tag, self.node_tags.len()) {
+            return Err(self.err(at, format_args!("duplicate node tag {tag}")));
+        }
+        self.node_tags.push(tag);
+        Ok(())
+    }
+
+    fn nodes_v2(&mut self) -> Res<()> {
+        let n = self.a_u64("number of nodes")?;
+        if self.binary {
+            self.end_of_line()?;
+        }
+        let cap = self.cap(n, if self.binary { 28 } else { 8 });
+        self.reserve_nodes(cap);
+        for _ in 0..n {
+            let at = self.here();
+            let tag = if self.binary {
+                let t = self.b_i32()?;
+                u64::try_from(t).map_err(|_| self.err(at, format_args!("bad node tag {t}")))?
+            } else {
+                self.a_u64("node tag")?
+            };
+            self.add_node_tag(at, tag)?;
+            for _ in 0..3 {
+                let x = self.coord()?;
+                self.coords.push(x);
+            }
+        }
+        Ok(())
+    }
+
+    fn nodes_v4(&mut self) -> Res<()> {
+        if self.binary {
+            self.end_of_line()?;
+        }
+        let nblocks = self.size("number of node blocks")?;
+        let total = self.size("number of nodes")?;
+        self.size("minimum node tag")?;
+        self.size("maximum node tag")?;
+        let cap = self.cap(total, if self.binary { 32 } else { 8 });
+        self.reserve_nodes(cap);
+        let mut count: u64 = 0;
+        for _ in 0..nblocks {
+            let bat = self.here();
+            let edim = self.int("entity dimension")?;
+            self.int("entity tag")?;
+            let param = self.int("parametric flag")?;
+            let nb = self.size("number of nodes in the block")?;
+            let Some(edim) = usize::try_from(edim).ok().filter(|&d| d <= 3) else {
+                return Err(self.err(bat, format_args!("bad entity dimension {edim}")));
+            };
+            if !(0..=1).contains(&param) {
+                return Err(self.err(bat, format_args!("bad parametric flag {param}")));
+            }
+            count = count
+                .checked_add(nb)
+                .filter(|&c| c <= total)
+                .ok_or_else(|| {
+                    self.err(
+                        bat,
+                        format_args!("node blocks hold more than the {total} nodes of the header"),
+                    )
+                })?;
+            for _ in 0..nb {
+                let at = self.here();
+                let tag = self.size("node tag")?;
+                self.add_node_tag(at, tag)?;
+            }
+            let extra = if param == 1 { edim } else { 0 };
+            for _ in 0..nb {
+                for _ in 0..3 {
+                    let x = self.coord()?;
+                    self.coords.push(x);
+                }
+                for _ in 0..extra {
+                    self.real("parametric coordinate")?;
+                }
+            }
+        }
+        if count != total {
+            let at = self.here();
+            return Err(self.err(
+                at,
+                format_args!("the $Nodes header announces {total} nodes, the blocks hold {count}"),
+            ));
+        }
+        Ok(())
+    }
+
+    fn elements(&mut self, at: usize) -> Res<()> {
+        if self.elements_at.is_some() {
+            return Err(self.err(at, "duplicate $Elements section"));
+        }
+        if !self.nodes_seen {
+            return Err(self.err(at, "$Elements before $Nodes"));
+        }
+        self.elements_at = Some(at);
+        self.section = "$Elements";
+        if self.v4 {
+            self.elements_v4()?;
+        } else {
+            self.elements_v2()?;
+        }
+        self.expect_end("$EndElements")
+    }
+
+    fn check_type(&self, at: usize, gmsh_type: i32) -> Res<usize> {
+        element_dim(gmsh_type).ok_or_else(|| {
+            self.err(
+                at,
+                format_args!(
+                    "unsupported element type {gmsh_type} \
+                     (only P1 points, lines, triangles, tetrahedra)"
+                ),
+            )
+        })
+    }
+
+    fn undefined_node(&self, at: usize, tag: impl fmt::Display) -> MeshError {
+        self.err(at, format_args!("element refers to undefined node {tag}"))
+    }
+
+    fn elements_v2(&mut self) -> Res<()> {
+        let n = self.a_u64("number of elements")?;
+        if self.binary {
+            self.end_of_line()?;
+            let mut done: u64 = 0;
+            while done < n {
+                let hat = self.pos;
+                let gmsh_type = self.b_i32()?;
+                let nf = self.b_i32()?;
+                let ntags = self.b_i32()?;
+                let dim = self.check_type(hat, gmsh_type)?;
+                let Some(nf) = u64::try_from(nf).ok().filter(|&f| f > 0 && f <= n - done) else {
+                    return Err(self.err(
+                        hat,
+                        format_args!(
+                            "bad element block size {nf} ({} elements left of {n})",
+                            n - done
+                        ),
+                    ));
+                };
+                let Ok(ntags) = u64::try_from(ntags) else {
+                    return Err(self.err(hat, format_args!("bad number of tags {ntags}")));
+                };
+                for _ in 0..nf {
+                    self.b_i32()?;
+                    let mut phys = 0;
+                    for j in 0..ntags {
+                        let v = self.b_i32()?;
+                        if j == 0 {
+                            phys = v;
+                        }
+                    }
+                    let mut conn = [0usize; 4];
+                    for c in conn.iter_mut().take(dim + 1) {
+                        let at = self.pos;
+                        let t = self.b_i32()?;
+                        *c = u64::try_from(t)
+                            .ok()
+                            .and_then(|u| self.node_map.get(u))
+                            .ok_or_else(|| self.undefined_node(at, t))?;
+                    }
+                    self.add_v2(dim, conn, phys);
+                }
+                done += nf;
+            }
+        } else {
+            for _ in 0..n {
+                self.a_u64("element tag")?;
+                let (at, t) = self.token()?;
+                let gmsh_type = parse_i32(t).ok_or_else(|| self.bad(at, t, "element type"))?;
+                let dim = self.check_type(at, gmsh_type)?;
+                let ntags = self.a_u64("number of tags")?;
+                let mut phys = 0;
+                for j in 0..ntags {
+                    let v = self.a_i32("tag")?;
+                    if j == 0 {
+                        phys = v;
+                    }
+                }
+                let mut conn = [0usize; 4];
+                for c in conn.iter_mut().take(dim + 1) {
+                    let (at, t) = self.token()?;
+                    let tag = parse_u64(t).ok_or_else(|| self.bad(at, t, "node tag"))?;
+                    *c = self
+                        .node_map
+                        .get(tag)
+                        .ok_or_else(|| self.undefined_node(at, tag))?;
+                }
+                self.add_v2(dim, conn, phys);
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds a 2.2 element; a cell repeating the previous element is Gmsh's
+    /// copy for another physical group and only joins that group.
+    fn add_v2(&mut self, dim: usize, conn: [usize; 4], phys: i32) {
+        let repeat = self.prev_v2 == Some((dim, conn));
+        self.prev_v2 = Some((dim, conn));
+        let c = conn.get(..dim + 1).unwrap_or(&conn);
+        if !repeat {
+            match dim {
+                2 => self.tris.extend_from_slice(c),
+                3 => self.tets.extend_from_slice(c),
+                _ => {}
+            }
+        }
+        if dim < 3 && phys != 0 {
+            let g = self.group_slot(dim, phys);
+            if let Some(group) = self.groups.get_mut(g) {
+                group.conn.extend_from_slice(c);
+            }
+        }
+    }
+
+    /// Index in `groups` of physical group `(dim, tag)`, created if new.
+    fn group_slot(&mut self, dim: usize, tag: i32) -> usize {
+        if let Some((d, t, g)) = self.last_group {
+            if d == dim && t == tag {
+                return g;
+            }
+        }
+        let n = self.groups.len();
+        let g = *self.group_index.entry((dim, tag)).or_insert(n);
+        if g == n {
+            self.groups.push(GroupAcc {
+                dim,
+                tag,
+                conn: Vec::new(),
+            });
+        }
+        self.last_group = Some((dim, tag, g));
+        g
+    }
+
+    fn elements_v4(&mut self) -> Res<()> {
+        if self.binary {
+            self.end_of_line()?;
+        }
+        let nblocks = self.size("number of element blocks")?;
+        let total = self.size("number of elements")?;
+        self.size("minimum element tag")?;
+        self.size("maximum element tag")?;
+        // Group entries allowed: a 4.1 entity with many physical tags
+        // multiplies its elements, so bound that by the input size.
+        let budget = self.b.len().saturating_mul(8).saturating_add(1 << 16);
+        let mut count: u64 = 0;
+        let mut slots: Vec<usize> = Vec::new();
+        let mut seen: HashSet<usize> = HashSet::new();
+        for _ in 0..nblocks {
+            let bat = self.here();
+            let edim = self.int("entity dimension")?;
+            let etag = self.int("entity tag")?;
+            let tat = self.here();
+            let gmsh_type = self.int("element type")?;
+            let nb = self.size("number of elements in the block")?;
+            let dim = self.check_type(tat, gmsh_type)?;
+            if usize::try_from(edim).ok() != Some(dim) {
+                return Err(self.err(
+                    bat,
+                    format_args!(
+                        "element type {gmsh_type} (dimension {dim}) in a block of entity dimension {edim}"
+                    ),
+                ));
+            }
+            count = count
+                .checked_add(nb)
+                .filter(|&c| c <= total)
+                .ok_or_else(|| {
+                    self.err(
+                        bat,
+                        format_args!(
+                            "element blocks hold more than the {total} elements of the header"
+                        ),
+                    )
+                })?;
+            slots.clear();
+            seen.clear();
+            if let Some(ents) = &self.entities {
+                let Some(&(s, e)) = ents.get(&(dim, etag)) else {
+                    return Err(self.err(
+                        bat,
+                        format_args!(
+                            "element block refers to entity (dimension {dim}, tag {etag}) \
+                             that is not in $Entities"
+                        ),
+                    ));
+                };
+                if dim < 3 && nb > 0 {
+                    let phys = self.entity_phys.get(s..e).unwrap_or(&[]).to_vec();
+                    for p in phys {
+                        if p != 0 {
+                            let g = self.group_slot(dim, p);
+                            if seen.insert(g) {
+                                slots.push(g);
+                            }
+                        }
+                    }
+                }
+            }
+            let k = dim + 1;
+            for _ in 0..nb {
+                self.size("element tag")?;
+                let mut conn = [0usize; 4];
+                for c in conn.iter_mut().take(k) {
+                    let at = self.here();
+                    let tag = self.size("node tag")?;
+                    *c = self
+                        .node_map
+                        .get(tag)
+                        .ok_or_else(|| self.undefined_node(at, tag))?;
+                }
+                let c = conn.get(..k).unwrap_or(&conn);
+                match dim {
+                    2 => self.tris.extend_from_slice(c),
+                    3 => self.tets.extend_from_slice(c),
+                    _ => {}
+                }
+                for &g in &slots {
+                    if let Some(group) = self.groups.get_mut(g) {
+                        group.conn.extend_from_slice(c);
+                    }
+                }
+                self.group_entries = self.group_entries.saturating_add(k * slots.len());
+                if self.group_entries > budget {
+                    return Err(self.err(
+                        bat,
+                        "too many physical-group memberships for the size of the file",
+                    ));
+                }
+            }
+        }
+        if count != total {
+            let at = self.here();
+            return Err(self.err(
+                at,
+                format_args!(
+                    "the $Elements header announces {total} elements, the blocks hold {count}"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// A 2D mesh loses its z coordinate: its triangles must lie in a plane
+    /// z = constant (up to rounding).
+    fn check_planar(&self) -> Res<()> {
+        let z = |v: usize| self.coords.get(3 * v + 2).copied().unwrap_or(0.0);
+        let Some(&first) = self.tris.first() else {
+            return Ok(());
+        };
+        let z0 = z(first);
+        let scale = self.coords.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+        let tol = 1e-10 * scale;
+        match self.tris.iter().find(|&&v| (z(v) - z0).abs() > tol) {
+            None => Ok(()),
+            Some(&v) => Err(self.err(
+                self.nodes_at,
+                format_args!(
+                    "2D mesh (triangles, no tetrahedra) not in a plane z = constant: \
+                     node {} has z = {}, node {} has z = {z0}",
+                    self.node_tags.get(v).copied().unwrap_or(0),
+                    z(v),
+                    self.node_tags.get(first).copied().unwrap_or(0),
+                ),
+            )),
+        }
+    }
+
+    fn finish(self) -> Res<Mesh> {
+        let end = self.b.len();
+        if !self.nodes_seen {
+            return Err(self.err(end, "missing $Nodes section"));
+        }
+        let Some(elements_at) = self.elements_at else {
+            return Err(self.err(end, "missing $Elements section"));
+        };
+        let dim = if !self.tets.is_empty() {
+            3
+        } else if !self.tris.is_empty() {
+            2
+        } else {
+            return Err(self.err(elements_at, "no triangles or tetrahedra"));
+        };
+        if dim == 2 {
+            self.check_planar()?;
+        }
+        let coords = if dim == 3 {
+            self.coords
+        } else {
+            let mut xy = Vec::with_capacity(self.coords.len() / 3 * 2);
+            for p in self.coords.chunks_exact(3) {
+                xy.extend_from_slice(p.get(..2).unwrap_or(p));
+            }
+            xy
+        };
+        let cells = if dim == 3 { self.tets } else { self.tris };
+        let mut groups = Vec::new();
+        for g in self.groups {
+            if g.dim < dim {
+                let name = match self.names.get(&(g.dim, g.tag)) {
+                    Some(n) => n.clone(),
+                    None => g.tag.to_string(),
+                };
+                groups.push(Group {
+                    name,
+                    dim: g.dim,
+                    conn: g.conn,
+                });
+            }
+        }
+        for key in &self.name_order {
+            if key.0 < dim && !self.group_index.contains_key(key) {
+                if let Some(name) = self.names.get(key) {
+                    groups.push(Group {
+                        name: name.clone(),
+                        dim: key.0,
+                        conn: Vec::new(),
+                    });
+                }
+            }
+        }
+        let mut mesh = Mesh {
+            dim,
+            coords,
+            node_tags: self.node_tags,
+            cells,
+            groups,
+        };
+        mesh.drop_unused_nodes();
+        Ok(mesh)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The unit square as two triangles, with named and unnamed groups, a
+    /// curve in two physical groups (Gmsh repeats its line), a physical point
+    /// on an unused geometry point (node 5), and a section to skip.
+    const SQ22: &str = "$MeshFormat
+2.2 0 8
+$EndMeshFormat
+$PhysicalNames
+4
+0 10 \"corner\"
+1 1 \"bottom\"
+1 2 \"top\"
+2 12 \"body\"
+$EndPhysicalNames
+$Nodes
+5
+1 0 0 0
+2 1 0 0
+3 1 1 0
+4 0 1 0
+5 2 2 0
+$EndNodes
+$Elements
+7
+1 15 2 10 1 1
+2 15 2 11 5 5
+3 1 2 1 1 1 2
+4 1 2 2 3 3 4
+5 1 2 3 3 3 4
+6 2 2 12 1 1 2 3
+7 2 2 12 1 1 3 4
+$EndElements
+$Comments
+not $EndComments, and $End alone: skipped
+$EndComments
+";
+
+    /// The same mesh in MSH 4.1 (with a parametric node block).
+    const SQ41: &str = "$MeshFormat
+4.1 0 8
+$EndMeshFormat
+$PhysicalNames
+4
+0 10 \"corner\"
+1 1 \"bottom\"
+1 2 \"top\"
+2 12 \"body\"
+$EndPhysicalNames
+$Entities
+2 2 1 0
+1 0 0 0 1 10
+5 2 2 0 1 11
+1 0 0 0 1 0 0 1 1 2 1 -2
+3 0 1 0 1 1 0 2 2 3 2 3 -4
+1 0 0 0 1 1 0 1 12 2 1 3
+$EndEntities
+$Periodic
+0
+$EndPeriodic
+$Nodes
+3 5 1 5
+0 1 0 1
+1
+0 0 0
+2 1 1 3
+2
+3
+4
+1 0 0 1 0
+1 1 0 1 1
+0 1 0 0 1
+0 5 0 1
+5
+2 2 0
+$EndNodes
+$Elements
+5 6 1 7
+0 1 15 1
+1 1
+0 5 15 1
+2 5
+1 1 1 1
+3 1 2
+1 3 1 1
+4 3 4
+2 1 2 2
+6 1 2 3
+7 1 3 4
+$EndElements
+";
+
+    fn parse(s: &[u8]) -> Result<Mesh, MeshError> {
+        parse_gmsh(s, "t.msh")
+    }
+
+    fn ok(s: &[u8]) -> Mesh {
+        match parse(s) {
+            Ok(m) => m,
+            Err(e) => panic!("unexpected error: {e}"),
+        }
+    }
+
+    fn err(s: &[u8]) -> String {
+        match parse(s) {
+            Ok(m) => panic!("expected an error, got {m:?}"),
+            Err(e) => e.0,
+        }
+    }
+
+    fn group(name: &str, dim: usize, conn: &[usize]) -> Group {
+        Group {
+            name: name.to_string(),
+            dim,
+            conn: conn.to_vec(),
+        }
+    }
+
+    fn square_expected() -> Mesh {
+        Mesh {
+            dim: 2,
+            coords: vec![0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0],
+            node_tags: vec![1, 2, 3, 4],
+            cells: vec![0, 1, 2, 0, 2, 3],
+            groups: vec![
+                group("corner", 0, &[0]),
+                group("11", 0, &[]),
+                group("bottom", 1, &[0, 1]),
+                group("top", 1, &[2, 3]),
+                group("3", 1, &[2, 3]),
+            ],
+        }
+    }
+
+    // ----- writers for test meshes -----
+
+    struct TElem {
+        gmsh_type: i32,
+        entity: (i32, i32),
+        phys: Vec<i32>,
+        nodes: Vec<u64>,
+    }
+
+    struct TMesh {
+        names: Vec<(i32, i32, &'static str)>,
+        nodes: Vec<(u64, [f64; 3])>,
+        elems: Vec<TElem>,
+    }
+
+    fn el(gmsh_type: i32, entity: (i32, i32), phys: &[i32], nodes: &[u64]) -> TElem {
+        TElem {
+            gmsh_type,
+            entity,
+            phys: phys.to_vec(),
+            nodes: nodes.to_vec(),
+        }
+    }
+
+    fn square() -> TMesh {
+        TMesh {
+            names: vec![
+                (0, 10, "corner"),
+                (1, 1, "bottom"),
+                (1, 2, "top"),
+                (2, 12, "body"),
+            ],
+            nodes: vec![
+                (1, [0.0, 0.0, 0.0]),
+                (2, [1.0, 0.0, 0.0]),
+                (3, [1.0, 1.0, 0.0]),
+                (4, [0.0, 1.0, 0.0]),
+                (5, [2.0, 2.0, 0.0]),
+            ],
+            elems: vec![
+                el(15, (0, 1), &[10], &[1]),
+                el(15, (0, 5), &[11], &[5]),
+                el(1, (1, 1), &[1], &[1, 2]),
+                el(1, (1, 3), &[2, 3], &[3, 4]),
+                el(2, (2, 1), &[12], &[1, 2, 3]),
+                el(2, (2, 1), &[12], &[1, 3, 4]),
+            ],
+        }
+    }
+
+    /// Two tetrahedra with sparse node tags, a named boundary triangle, an
+    /// unnamed edge group, an edge without a group, and a triangle without one.
+    fn tets() -> TMesh {
+        TMesh {
+            names: vec![(2, 20, "base"), (3, 30, "solid"), (1, 40, "ghost")],
+            nodes: vec![
+                (10, [0.0, 0.0, 0.0]),
+                (20, [1.0, 0.0, 0.0]),
+                (30, [0.0, 1.0, 0.0]),
+                (2_000_000_000, [0.0, 0.0, 1.0]),
+                (7, [1.0, 1.0, 1.0]),
+            ],
+            elems: vec![
+                el(1, (1, 1), &[], &[10, 20]),
+                el(1, (1, 2), &[41], &[20, 30]),
+                el(2, (2, 1), &[20], &[10, 30, 20]),
+                el(2, (2, 2), &[], &[20, 30, 7]),
+                el(4, (3, 1), &[30, 31], &[10, 20, 30, 2_000_000_000]),
+                el(4, (3, 1), &[30, 31], &[20, 7, 30, 2_000_000_000]),
+            ],
+        }
+    }
+
+    fn tets_expected() -> Mesh {
+        Mesh {
+            dim: 3,
+            coords: vec![
+                0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0,
+            ],
+            node_tags: vec![10, 20, 30, 2_000_000_000, 7],
+            cells: vec![0, 1, 2, 3, 1, 4, 2, 3],
+            groups: vec![
+                group("41", 1, &[1, 2]),
+                group("base", 2, &[0, 2, 1]),
+                group("ghost", 1, &[]),
+            ],
+        }
+    }
+
+    struct Out {
+        buf: Vec<u8>,
+        binary: bool,
+        big: bool,
+    }
+
+    impl Out {
+        fn text(&mut self, s: &str) {
+            self.buf.extend_from_slice(s.as_bytes());
+        }
+        fn int(&mut self, v: i32) {
+            if self.binary {
+                let b = if self.big {
+                    v.to_be_bytes()
+                } else {
+                    v.to_le_bytes()
+                };
+                self.buf.extend_from_slice(&b);
+            } else {
+                self.text(&format!("{v} "));
+            }
+        }
+        fn size(&mut self, v: u64) {
+            if self.binary {
+                let b = if self.big {
+                    v.to_be_bytes()
+                } else {
+                    v.to_le_bytes()
+                };
+                self.buf.extend_from_slice(&b);
+            } else {
+                self.text(&format!("{v} "));
+            }
+        }
+        fn real(&mut self, v: f64) {
+            if self.binary {
+                let b = if self.big {
+                    v.to_be_bytes()
+                } else {
+                    v.to_le_bytes()
+                };
+                self.buf.extend_from_slice(&b);
+            } else {
+                self.text(&format!("{v:?} "));
+            }
+        }
+        /// A 2.2 node tag: `int` in binary files.
+        fn tag(&mut self, v: u64) {
+            if self.binary {
+                self.int(v as i32);
+            } else {
+                self.size(v);
+            }
+        }
+        fn nl(&mut self) {
+            if !self.binary {
+                self.text("\n");
+            }
+        }
+        fn header(&mut self, version: &str, m: &TMesh) {
+            let ft = if self.binary { 1 } else { 0 };
+            self.text(&format!("$MeshFormat\n{version} {ft} 8\n"));
+            if self.binary {
+                self.int(1);
+                self.text("\n");
+            }
+            self.text("$EndMeshFormat\n");
+            self.text(&format!("$PhysicalNames\n{}\n", m.names.len()));
+            for (d, t, n) in &m.names {
+                self.text(&format!("{d} {t} \"{n}\"\n"));
+            }
+            self.text("$EndPhysicalNames\n");
+        }
+    }
+
+    fn write_v2(m: &TMesh, binary: bool, big: bool) -> Vec<u8> {
+        let mut o = Out {
+            buf: Vec::new(),
+            binary,
+            big,
+        };
+        o.header("2.2", m);
+        o.text(&format!("$Nodes\n{}\n", m.nodes.len()));
+        for (tag, x) in &m.nodes {
+            o.tag(*tag);
+            for &v in x {
+                o.real(v);
+            }
+            o.nl();
+        }
+        if binary {
+            o.text("\n");
+        }
+        o.text("$EndNodes\n");
+        let lines: Vec<(&TElem, i32)> = m
+            .elems
+            .iter()
+            .flat_map(|e| {
+                let phys = if e.phys.is_empty() {
+                    vec![0]
+                } else {
+                    e.phys.clone()
+                };
+                phys.into_iter().map(move |p| (e, p))
+            })
+            .collect();
+        o.text(&format!("$Elements\n{}\n", lines.len()));
+        for (i, (e, p)) in lines.iter().enumerate() {
+            if binary {
+                o.int(e.gmsh_type);
+                o.int(1);
+                o.int(2);
+            } else {
+                o.int(i as i32 + 1);
+                o.int(e.gmsh_type);
+                o.int(2);
+            }
+            if binary {
+                o.int(i as i32 + 1);
+            }
+            o.int(*p);
+            o.int(e.entity.1);
+            for &n in &e.nodes {
+                o.tag(n);
+            }
+            o.nl();
+        }
+        if binary {
+            o.text("\n");
+        }
+        o.text("$EndElements\n");
+        o.buf
+    }
+
+    fn write_v4(m: &TMesh, binary: bool, big: bool) -> Vec<u8> {
+        let mut o = Out {
+            buf: Vec::new(),
+            binary,
+            big,
+        };
+        o.header("4.1", m);
+        // Entities in order of first use, with their physical tags.
+        let mut ents: Vec<((i32, i32), Vec<i32>)> = Vec::new();
+        for e in &m.elems {
+            if !ents.iter().any(|(k, _)| *k == e.entity) {
+                ents.push((e.entity, e.phys.clone()));
+            }
+        }
+        if !ents.iter().any(|(k, _)| *k == (3, 1)) {
+            ents.push(((2, 99), vec![]));
+        }
+        o.text("$Entities\n");
+        for d in 0..4 {
+            o.size(ents.iter().filter(|(k, _)| k.0 == d).count() as u64);
+        }
+        o.nl();
+        for d in 0..4 {
+            for ((_, tag), phys) in ents.iter().filter(|(k, _)| k.0 == d) {
+                o.int(*tag);
+                for _ in 0..if d == 0 { 3 } else { 6 } {
+                    o.real(0.5);
+                }
+                o.size(phys.len() as u64);
+                for &p in phys {
+                    o.int(p);
+                }
+                if d > 0 {
+                    o.size(2);
+                    o.int(1);
+                    o.int(-2);
+                }
+                o.nl();
+            }
+        }
+        if binary {
+            o.text("\n");
+        }
+        o.text("$EndEntities\n$Nodes\n");
+        let n = m.nodes.len() as u64;
+        let (lo, hi) = m
+            .nodes
+            .iter()
+            .fold((u64::MAX, 0), |(lo, hi), (t, _)| (lo.min(*t), hi.max(*t)));
+        o.size(1);
+        o.size(n);
+        o.size(lo);
+        o.size(hi);
+        o.nl();
+        o.int(3);
+        o.int(1);
+        o.int(0);
+        o.size(n);
+        o.nl();
+        for (t, _) in &m.nodes {
+            o.size(*t);
+            o.nl();
+        }
+        for (_, x) in &m.nodes {
+            for &v in x {
+                o.real(v);
+            }
+            o.nl();
+        }
+        if binary {
+            o.text("\n");
+        }
+        o.text("$EndNodes\n$Elements\n");
+        // Blocks of consecutive elements with the same entity and type.
+        let mut blocks: Vec<Vec<&TElem>> = Vec::new();
+        for e in &m.elems {
+            match blocks.last_mut() {
+                Some(b) if b[0].entity == e.entity && b[0].gmsh_type == e.gmsh_type => b.push(e),
+                _ => blocks.push(vec![e]),
+            }
+        }
+        o.size(blocks.len() as u64);
+        o.size(m.elems.len() as u64);
+        o.size(1);
+        o.size(m.elems.len() as u64);
+        o.nl();
+        let mut tag = 0;
+        for b in &blocks {
+            o.int(b[0].entity.0);
+            o.int(b[0].entity.1);
+            o.int(b[0].gmsh_type);
+            o.size(b.len() as u64);
+            o.nl();
+            for e in b {
+                tag += 1;
+                o.size(tag);
+                for &n in &e.nodes {
+                    o.size(n);
+                }
+                o.nl();
+            }
+        }
+        if binary {
+            o.text("\n");
+        }
+        o.text("$EndElements\n");
+        o.buf
+    }
+
+    /// All encodings of a test mesh: (description, bytes).
+    fn variants(m: &TMesh) -> Vec<(&'static str, Vec<u8>)> {
+        vec![
+            ("2.2 ascii", write_v2(m, false, false)),
+            ("2.2 binary", write_v2(m, true, false)),
+            ("2.2 binary big-endian", write_v2(m, true, true)),
+            ("4.1 ascii", write_v4(m, false, false)),
+            ("4.1 binary", write_v4(m, true, false)),
+            ("4.1 binary big-endian", write_v4(m, true, true)),
+        ]
+    }
+
+    // ----- valid files -----
+
+    #[test]
+    fn square_v22_ascii() {
+        let m = ok(SQ22.as_bytes());
+        assert_eq!(m, square_expected());
+        assert_eq!(m.num_nodes(), 4);
+        assert_eq!(m.num_cells(), 2);
+        assert!(m.signed_measure(0) > 0.0 && m.signed_measure(1) > 0.0);
+        assert_eq!(m.group("top").map(Group::len), Some(1));
+        assert!(
+            m.group("body").is_none(),
+            "2D groups are not boundary groups"
+        );
+    }
+
+    #[test]
+    fn square_v41_ascii_matches_v22() {
+        assert_eq!(ok(SQ41.as_bytes()), ok(SQ22.as_bytes()));
+    }
+
+    #[test]
+    fn square_crlf_line_ends() {
+        let crlf = SQ22.replace('\n', "\r\n");
+        assert_eq!(ok(crlf.as_bytes()), square_expected());
+        let crlf = SQ41.replace('\n', "\r\n");
+        assert_eq!(ok(crlf.as_bytes()), square_expected());
+    }
+
+    #[test]
+    fn square_all_encodings() {
+        for (what, bytes) in variants(&square()) {
+            match parse(&bytes) {
+                Ok(m) => assert_eq!(m, square_expected(), "{what}"),
+                Err(e) => panic!("{what}: {e}"),
+            }
+        }
+    }
+
+    #[test]
+    fn binary_v41_and_v22() {
+        let b41 = write_v4(&square(), true, false);
+        assert!(b41.starts_with(b"$MeshFormat\n4.1 1 8\n\x01\x00\x00\x00\n"));
+        assert_eq!(ok(&b41), square_expected());
+        let b22 = write_v2(&square(), true, false);
+        assert!(b22.starts_with(b"$MeshFormat\n2.2 1 8\n\x01\x00\x00\x00\n"));
+        assert_eq!(ok(&b22), square_expected());
+    }
+
+    #[test]
+    fn tetrahedra_3d() {
+        for (what, bytes) in variants(&tets()) {
+            match parse(&bytes) {
+                Ok(m) => {
+                    assert_eq!(m, tets_expected(), "{what}");
+                    assert_eq!(m.num_cells(), 2);
+                    assert_eq!(m.group("base").map(|g| g.nodes_per_element()), Some(3));
+                }
+                Err(e) => panic!("{what}: {e}"),
+            }
+        }
+    }
+
+    #[test]
+    fn unused_geometry_point_dropped() {
+        let m = ok(SQ22.as_bytes());
+        assert!(!m.node_tags.contains(&5));
+        assert_eq!(m.coords.len(), 8);
+        // The point group on it survives, empty.
+        assert_eq!(m.group("11"), Some(&group("11", 0, &[])));
+    }
+
+    #[test]
+    fn elements_without_group() {
+        // Cells without a physical group are cells; a line without one is ignored.
+        let s = SQ22
+            .replace("6 2 2 12 1 1 2 3", "6 2 0 1 2 3")
+            .replace("3 1 2 1 1 1 2", "3 1 2 0 1 1 2");
+        let m = ok(s.as_bytes());
+        assert_eq!(m.cells, vec![0, 1, 2, 0, 2, 3]);
+        // "bottom" is named but has no elements: kept empty, after the others.
+        assert_eq!(m.groups.last(), Some(&group("bottom", 1, &[])));
+        assert_eq!(m.groups.len(), 5);
+    }
+
+    #[test]
+    fn sparse_and_large_node_tags() {
+        // Tags beyond `int` only fit 2.2 ASCII (read as u64) and 4.1.
+        let mut sq = square();
+        let big = 300_000_000_000;
+        sq.nodes[2].0 = big;
+        for e in &mut sq.elems {
+            for n in &mut e.nodes {
+                if *n == 3 {
+                    *n = big;
+                }
+            }
+        }
+        let mut expected = square_expected();
+        expected.node_tags[2] = big;
+        for bytes in [
+            write_v2(&sq, false, false),
+            write_v4(&sq, false, false),
+            write_v4(&sq, true, false),
+        ] {
+            assert_eq!(ok(&bytes), expected);
+        }
+    }
+
+    // ----- errors -----
+
+    fn replace_line(s: &str, line: usize, with: &str) -> String {
+        s.lines()
+            .enumerate()
+            .map(|(i, l)| if i + 1 == line { with } else { l })
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+
+    #[test]
+    fn error_not_gmsh() {
+        assert_eq!(
+            err(b"hello\n$MeshFormat\n"),
+            "t.msh:1: not a Gmsh mesh file (no $MeshFormat)"
+        );
+        assert_eq!(err(b""), "t.msh:1: not a Gmsh mesh file (no $MeshFormat)");
+        assert!(err(b"\x89PNG\r\n").contains("no $MeshFormat"));
+    }
+
+    #[test]
+    fn error_truncated_in_nodes() {
+        let s: String = SQ22.lines().take(15).map(|l| format!("{l}\n")).collect();
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:15: unexpected end of file in $Nodes"
+        );
+        let cut = &SQ41.as_bytes()[..SQ41.find("\n1 1 0 1 1\n").unwrap() + 5];
+        assert_eq!(err(cut), "t.msh:32: unexpected end of file in $Nodes");
+    }
+
+    #[test]
+    fn error_bad_number() {
+        let s = replace_line(SQ22, 15, "3 1 1x 0");
+        assert_eq!(err(s.as_bytes()), "t.msh:15: bad coordinate `1x`");
+        let s = replace_line(SQ22, 25, "5 1 2 3 3 3 four");
+        assert_eq!(err(s.as_bytes()), "t.msh:25: bad node tag `four`");
+        let s = replace_line(SQ22, 12, "-5");
+        assert_eq!(err(s.as_bytes()), "t.msh:12: bad number of nodes `-5`");
+        let s = replace_line(SQ22, 15, "3 1 nan 0");
+        assert_eq!(err(s.as_bytes()), "t.msh:15: non-finite coordinate NaN");
+        let s = replace_line(SQ22, 15, "3 1 \u{e9} 0");
+        assert_eq!(err(s.as_bytes()), "t.msh:15: bad coordinate `\\xc3\\xa9`");
+        let s = replace_line(SQ22, 15, "99999999999999999999 1 1 0");
+        assert!(err(s.as_bytes()).starts_with("t.msh:15: bad node tag"));
+    }
+
+    #[test]
+    fn error_unknown_node_tag() {
+        let s = replace_line(SQ22, 27, "7 2 2 12 1 1 3 9");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:27: element refers to undefined node 9"
+        );
+        let s = SQ41.replace("7 1 3 4", "7 1 3 44");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:50: element refers to undefined node 44"
+        );
+    }
+
+    #[test]
+    fn error_unsupported_element_type() {
+        let s = replace_line(SQ22, 27, "7 3 2 12 1 1 2 3 4");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:27: unsupported element type 3 \
+             (only P1 points, lines, triangles, tetrahedra)"
+        );
+        let s = SQ41.replace("2 1 2 2\n", "2 1 9 2\n");
+        assert!(err(s.as_bytes()).starts_with("t.msh:48: unsupported element type 9 "));
+    }
+
+    #[test]
+    fn error_unsupported_version() {
+        for v in ["3.0", "4.0", "1.0", "2.1", "4"] {
+            let s = replace_line(SQ22, 2, &format!("{v} 0 8"));
+            assert_eq!(
+                err(s.as_bytes()),
+                format!("t.msh:2: unsupported MSH version {v} (only 2.2 and 4.1 are supported)")
+            );
+        }
+    }
+
+    #[test]
+    fn error_counts_and_markers() {
+        let s = replace_line(SQ22, 12, "6");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:18: expected node tag, found `$EndNodes` (fewer entries than the header count?)"
+        );
+        let s = replace_line(SQ22, 12, "4");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:17: expected $EndNodes, found `5` (more entries than the header count?)"
+        );
+        let s = replace_line(SQ22, 18, "");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:19: expected $EndNodes, found `$Elements`"
+        );
+        let s: String = SQ22.lines().take(27).map(|l| format!("{l}\n")).collect();
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:27: unexpected end of file in $Elements (missing $EndElements)"
+        );
+        let s: String = SQ22.lines().take(18).map(|l| format!("{l}\n")).collect();
+        assert_eq!(err(s.as_bytes()), "t.msh:18: missing $Elements section");
+        let s = SQ22.replace(
+            "$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 2 2 0\n$EndNodes\n",
+            "",
+        );
+        assert_eq!(err(s.as_bytes()), "t.msh:11: $Elements before $Nodes");
+        let s = SQ22.replace("$Comments", "$Comment");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:29: section `$Comment` has no `$EndComment` line"
+        );
+        let s = replace_line(SQ41, 23, "3 6 1 6");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:37: the $Nodes header announces 6 nodes, the blocks hold 5"
+        );
+        let s = replace_line(SQ41, 23, "3 4 1 5");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:34: node blocks hold more than the 4 nodes of the header"
+        );
+        let s = replace_line(SQ41, 39, "5 7 1 7");
+        assert!(err(s.as_bytes()).starts_with("t.msh:51: the $Elements header announces 7"));
+    }
+
+    #[test]
+    fn error_other_cases() {
+        let s = replace_line(SQ22, 16, "3 0 1 0");
+        assert_eq!(err(s.as_bytes()), "t.msh:16: duplicate node tag 3");
+        let s = replace_line(SQ22, 6, "0 10 \"cor\u{fffd}ner");
+        assert_eq!(err(s.as_bytes()), "t.msh:6: unterminated physical name");
+        let mut b = SQ22.as_bytes().to_vec();
+        b[62] = 0xff; // inside "corner"
+        assert_eq!(err(&b), "t.msh:6: physical name is not valid UTF-8");
+        let s = SQ22
+            .replace("7\n1 15", "5\n1 15")
+            .replace("6 2 2 12 1 1 2 3\n7 2 2 12 1 1 3 4\n", "");
+        assert_eq!(err(s.as_bytes()), "t.msh:19: no triangles or tetrahedra");
+        let s = SQ41.replace("1 3 1 1\n4 3 4", "1 4 1 1\n4 3 4");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:46: element block refers to entity (dimension 1, tag 4) that is not in $Entities"
+        );
+        let s = SQ41.replace("$Entities", "$PartitionedEntities");
+        assert!(err(s.as_bytes()).contains(":11: partitioned meshes"));
+        let s = replace_line(SQ22, 2, "2.2 2 8");
+        assert!(err(s.as_bytes()).starts_with("t.msh:2: bad file type `2`"));
+        let s = SQ22.replace("$EndElements", "$EndElements\n7");
+        assert!(err(s.as_bytes()).starts_with("t.msh:29: expected a section header"));
+        let s = SQ22.replace("$Nodes\n5\n", "$Nodes\n1000000000000000000\n");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:18: expected node tag, found `$EndNodes` (fewer entries than the header count?)"
+        );
+    }
+
+    #[test]
+    fn error_2d_not_planar() {
+        let s = replace_line(SQ22, 15, "3 1 1 0.5");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:11: 2D mesh (triangles, no tetrahedra) not in a plane z = constant: \
+             node 3 has z = 0.5, node 1 has z = 0"
+        );
+        // A constant z, or an off-plane node no triangle uses, is fine.
+        let s = SQ22
+            .replace(" 0\n", " 2.5\n")
+            .replace("5 2 2 2.5", "5 2 2 7");
+        assert_eq!(ok(s.as_bytes()), square_expected());
+    }
+
+    #[test]
+    fn error_binary() {
+        let b = write_v4(&square(), true, false);
+        let at = b.windows(7).position(|w| w == b"$Nodes\n").unwrap() + 7;
+        let cut = &b[..at + 40];
+        assert_eq!(
+            err(cut),
+            format!("t.msh: byte {}: unexpected end of file in $Nodes", at + 40)
+        );
+        let mut bad = b.clone();
+        bad[20] = 2; // endianness marker
+        assert_eq!(
+            err(&bad),
+            "t.msh: byte 20: bad endianness marker (expected the integer 1)"
+        );
+        let s = String::from_utf8_lossy(&b).replace("4.1 1 8", "4.1 1 4");
+        assert!(err(s.as_bytes()).starts_with("t.msh: byte 18: unsupported data size `4`"));
+        // A node count of 2^60 must fail at the end, not allocate.
+        let mut huge = b.clone();
+        huge[at + 8..at + 16].copy_from_slice(&(1u64 << 60).to_le_bytes());
+        assert!(err(&huge).starts_with("t.msh: byte "));
+        // 2.2: an undefined node and an unsupported type.
+        let b = write_v2(&square(), true, false);
+        let el = b.windows(10).position(|w| w == b"$Elements\n").unwrap() + 12;
+        let mut bad = b.clone();
+        bad[el..el + 4].copy_from_slice(&3i32.to_le_bytes());
+        assert!(err(&bad).starts_with(&format!("t.msh: byte {el}: unsupported element type 3 ")));
+        let mut bad = b.clone();
+        bad[el + 24..el + 28].copy_from_slice(&(-1i32).to_le_bytes());
+        assert_eq!(
+            err(&bad),
+            format!(
+                "t.msh: byte {}: element refers to undefined node -1",
+                el + 24
+            )
+        );
+    }
+
+    // ----- robustness -----
+
+    struct XorShift(u64);
+
+    impl XorShift {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0
+        }
+        fn below(&mut self, n: usize) -> usize {
+            (self.next() % n.max(1) as u64) as usize
+        }
+    }
+
+    fn mutate(rng: &mut XorShift, input: &[u8]) -> Vec<u8> {
+        const SPECIAL: &[u8] = b"$\n \"-.0159e\xff\x00\x7f";
+        let mut b = input.to_vec();
+        for _ in 0..1 + rng.below(3) {
+            let i = rng.below(b.len());
+            match rng.below(7) {
+                0 if !b.is_empty() => b[i] ^= 1 << rng.below(8),
+                1 if !b.is_empty() => b[i] = SPECIAL[rng.below(SPECIAL.len())],
+                2 => b.insert(i, SPECIAL[rng.below(SPECIAL.len())]),
+                3 if !b.is_empty() => {
+                    b.remove(i);
+                }
+                4 => {
+                    // Hostile counts: large binary or text numbers.
+                    let fill: &[u8] = match rng.below(4) {
+                        0 => &[0xff; 8],
+                        1 => &[0x7f, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0x0f],
+                        2 => b"1000000000000000000",
+                        _ => b"4294967295",
+                    };
+                    for (k, &c) in fill.iter().enumerate() {
+                        if let Some(x) = b.get_mut(i + k) {
+                            *x = c;
+                        }
+                    }
+                }
+                5 => {
+                    let j = rng.below(b.len());
+                    let (lo, hi) = (i.min(j), i.max(j));
+                    let chunk = b[lo..hi.min(lo + 64)].to_vec();
+                    let at = rng.below(b.len());
+                    b.splice(at..at, chunk);
+                }
+                _ => b.truncate(i),
+            }
+        }
+        b
+    }
+
+    fn no_panic(what: &str, bytes: &[u8]) {
+        let r = std::panic::catch_unwind(|| parse_gmsh(bytes, "f.msh"));
+        match r {
+            Ok(Ok(m)) => {
+                let d = m.dim;
+                assert!(d == 2 || d == 3);
+                assert_eq!(m.coords.len(), d * m.node_tags.len());
+                assert!(m.cells.iter().all(|&v| v < m.node_tags.len()));
+            }
+            Ok(Err(e)) => {
+                assert!(e.0.starts_with("f.msh"), "{what}: {e}");
+                assert!(!e.0.contains('\n') && !e.0.contains('\r'), "{what}: {e:?}");
+            }
+            Err(_) => panic!(
+                "parse_gmsh panicked on {what}: {:?}",
+                bytes.escape_ascii().to_string()
+            ),
+        }
+    }
+
+    #[test]
+    fn no_panic_on_mutations() {
+        let mut files: Vec<(String, Vec<u8>)> = vec![
+            ("SQ22".into(), SQ22.as_bytes().to_vec()),
+            ("SQ41".into(), SQ41.as_bytes().to_vec()),
+        ];
+        for (what, b) in variants(&square()).into_iter().chain(variants(&tets())) {
+            files.push((what.to_string(), b));
+        }
+        let mut runs = 0;
+        for (what, b) in &files {
+            no_panic(what, b);
+            for n in 0..b.len() {
+                no_panic(&format!("{what} cut at {n}"), &b[..n]);
+                runs += 1;
+            }
+        }
+        let mut rng = XorShift(0x9e37_79b9_7f4a_7c15);
+        while runs < 20_000 {
+            for (what, b) in &files {
+                let m = mutate(&mut rng, b);
+                no_panic(&format!("mutated {what}"), &m);
+                runs += 1;
+            }
+        }
+    }
+}

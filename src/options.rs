@@ -1,0 +1,440 @@
+//! The program's settings, read from PETSc's options database (command line,
+//! `-options_file`, `PETSC_OPTIONS`). Every option is listed in [`HELP`] with
+//! its default, which `-help` prints; every parse error names the option.
+
+use crate::error::{bad, Error};
+use crate::petsc::options;
+
+/// (option, default, description) for `-help`.
+pub const HELP: &[(&str, &str, &str)] = &[
+    ("-mesh FILE", "none", "Gmsh mesh (.msh 2.2 or 4.1, ASCII or binary); boundary conditions name its physical groups"),
+    ("-mesh_generate NAME", "none", "built-in mesh, wins over -mesh: hertz2d (quarter cylinder of the paper's section 7.1)"),
+    ("-mesh_h H", "0.5", "element size of -mesh_generate"),
+    ("-E VALUE", "required", "Young's modulus"),
+    ("-nu VALUE", "required", "Poisson's ratio, in (-1, 0.5)"),
+    ("-plane_stress", "false", "2D: plane stress instead of plane strain"),
+    ("-dirichlet_NAME ux=V,uy=V[,uz=V]", "none", "prescribed displacement components on physical group NAME"),
+    ("-traction_NAME tx,ty[,tz]", "none", "surface traction (force per unit measure) on physical group NAME"),
+    ("-contact_surface NAME", "none", "physical group of the candidate contact surface Gamma_c"),
+    ("-contact_direction nx,ny[,nz]", "required with a contact surface", "unit contact direction n, toward the obstacle"),
+    ("-obstacle plane|ball", "required with a contact surface", "rigid obstacle"),
+    ("-obstacle_point x,y[,z]", "required for plane", "a point of the obstacle plane (orthogonal to n)"),
+    ("-obstacle_center x,y[,z]", "required for ball", "centre of the obstacle ball (circle in 2D)"),
+    ("-obstacle_radius R", "required for ball", "radius of the obstacle ball"),
+    ("-friction none|tresca|coulomb", "none", "friction law"),
+    ("-friction_coefficient NU_F", "0", "Coulomb/Tresca friction coefficient"),
+    ("-tresca_bound VALUE|hertz|frictionless", "frictionless", "Tresca friction bound s"),
+    ("-contact_algorithm ubr|ssn", "ubr", "UBR (the paper's algorithms) or the SSN-C comparator"),
+    ("-ubr_r R", "E", "augmentation parameter r of the augmented Lagrangian (3.7)"),
+    ("-ubr_rho RHO", "r", "multiplier step rho in (4.4); convergence needs 0 < rho < r(1+sqrt 5)/2"),
+    ("-ubr_rtol EPS", "1e-5", "relative tolerance eps_c = eps_f of the stopping tests (4.16), (5.6)"),
+    ("-ubr_residual_tol TOL", "1e-3", "tolerance on the constraint residual ||B u - phi||_{0,Gamma_c} (section 7)"),
+    ("-ubr_max_it N", "10000", "maximum UBR iterations"),
+    ("-ubr_fp_rtol EPS", "1e-4", "fixed-point tolerance eps_fp of (5.7) (CF-FP)"),
+    ("-ubr_fp_max_it N", "100", "maximum fixed-point iterations (CF-FP)"),
+    ("-ubr_monitor", "false", "print one line per UBR iteration"),
+    ("-ssn_r R", "1e3 E", "SSN-C parameter r"),
+    ("-reference hertz", "none", "compare the contact pressure with the analytic Hertz pressure"),
+    ("-reference_force F", "required with -reference", "Hertz load: per unit thickness of the whole cylinder (2D), on the whole sphere (3D)"),
+    ("-reference_radius R", "required with -reference", "radius of the Hertz cylinder or sphere"),
+    ("-reference_center x,y[,z]", "candidate with the smallest gap", "centre of the Hertz contact"),
+    ("-report FILE.json", "none", "write a JSON report"),
+    ("-contact_output FILE.csv", "none", "write the contact nodes (one row per candidate)"),
+    ("-help", "", "this list (PETSc's solver options are listed when a scene is given too)"),
+];
+
+pub fn print_help() {
+    println!(
+        "ubr-petsc: Uzawa block relaxation for unilateral contact in linear elasticity (Koko 2010)"
+    );
+    println!("usage: mpirun -n N ubr-petsc -options_file options/hertz [options]\n");
+    println!("Options (default in brackets):");
+    for (name, default, text) in HELP {
+        if default.is_empty() {
+            println!("  {name:<40} {text}");
+        } else {
+            println!("  {name:<40} {text} [{default}]");
+        }
+    }
+    println!("\nLinear solver: the unprefixed PETSc options (-ksp_type, -pc_type, -pc_factor_mat_solver_type, ...);");
+    println!("default -ksp_type preonly -pc_type cholesky -pc_factor_mat_solver_type mumps, factorized once.");
+    println!("Profiling: -log_view (stages Mesh, Partition, Assembly, Factorization, Iterations, Output).");
+    println!("Exit status: 0 converged, 2 bad input, 3 not converged.");
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum MeshSource {
+    File(String),
+    Generate { name: String, h: f64 },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Friction {
+    None,
+    Tresca,
+    Coulomb,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Obstacle {
+    Plane { point: Vec<f64> },
+    Ball { center: Vec<f64>, radius: f64 },
+}
+
+#[derive(Clone, Debug)]
+pub struct ContactSettings {
+    pub surface: String,
+    pub direction: Vec<f64>,
+    pub obstacle: Obstacle,
+}
+
+#[derive(Clone, Debug)]
+pub struct HertzReference {
+    pub force: f64,
+    pub radius: f64,
+    pub center: Option<Vec<f64>>,
+}
+
+/// One prescribed displacement: component `comp` of the nodes of group `group`.
+#[derive(Clone, Debug)]
+pub struct DirichletBc {
+    pub group: String,
+    pub comps: Vec<(usize, f64)>,
+}
+
+#[derive(Clone, Debug)]
+pub struct TractionBc {
+    pub group: String,
+    pub traction: Vec<f64>,
+}
+
+/// UBR settings (the paper's r, rho, eps and caps).
+#[derive(Clone, Debug)]
+pub struct UbrSettings {
+    pub r: f64,
+    pub rho: f64,
+    pub rtol: f64,
+    pub residual_tol: f64,
+    pub max_it: usize,
+    pub fp_rtol: f64,
+    pub fp_max_it: usize,
+    pub monitor: bool,
+}
+
+#[derive(Clone, Debug)]
+pub struct Settings {
+    pub mesh: MeshSource,
+    pub young: f64,
+    pub nu: f64,
+    pub plane_stress: bool,
+    pub dirichlet: Vec<DirichletBc>,
+    pub traction: Vec<TractionBc>,
+    pub contact: Option<ContactSettings>,
+    pub friction: Friction,
+    pub algorithm: String,
+    pub ubr: UbrSettings,
+    pub reference: Option<HertzReference>,
+    pub report: Option<String>,
+    pub contact_output: Option<String>,
+}
+
+fn get(name: &str) -> Result<Option<String>, Error> {
+    options::get_string(name)
+}
+
+fn parse_f64(name: &str, s: &str) -> Result<f64, Error> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => bad(format!("option {name}: '{s}' is not a finite number")),
+    }
+}
+
+fn get_f64(name: &str) -> Result<Option<f64>, Error> {
+    match get(name)? {
+        None => Ok(None),
+        Some(s) if s.is_empty() => bad(format!("option {name} needs a value")),
+        Some(s) => parse_f64(name, &s).map(Some),
+    }
+}
+
+fn get_usize(name: &str, default: usize) -> Result<usize, Error> {
+    match get(name)? {
+        None => Ok(default),
+        Some(s) => match s.trim().parse::<usize>() {
+            Ok(v) => Ok(v),
+            _ => bad(format!(
+                "option {name}: '{s}' is not a non-negative integer"
+            )),
+        },
+    }
+}
+
+fn get_vec(name: &str) -> Result<Option<Vec<f64>>, Error> {
+    match get(name)? {
+        None => Ok(None),
+        Some(s) if s.trim().is_empty() => bad(format!("option {name} needs a value")),
+        Some(s) => s
+            .split(',')
+            .map(|t| parse_f64(name, t))
+            .collect::<Result<Vec<_>, _>>()
+            .map(Some),
+    }
+}
+
+fn get_word(name: &str) -> Result<Option<String>, Error> {
+    match get(name)? {
+        None => Ok(None),
+        Some(s) if s.trim().is_empty() => bad(format!("option {name} needs a value")),
+        Some(s) => Ok(Some(s.trim().to_string())),
+    }
+}
+
+fn get_bool(name: &str) -> Result<bool, Error> {
+    match get(name)? {
+        None => Ok(false),
+        Some(s) => match s.trim().to_ascii_lowercase().as_str() {
+            "" | "1" | "true" | "yes" | "on" => Ok(true),
+            "0" | "false" | "no" | "off" => Ok(false),
+            _ => bad(format!("option {name}: '{s}' is not a boolean")),
+        },
+    }
+}
+
+/// Parses `ux=0,uy=-0.2` into (component, value) pairs.
+pub fn parse_dirichlet(name: &str, s: &str) -> Result<Vec<(usize, f64)>, Error> {
+    let mut out = Vec::new();
+    for item in s.split(',') {
+        let Some((k, v)) = item.split_once('=') else {
+            return bad(format!(
+                "option {name}: '{item}' is not of the form ux=VALUE"
+            ));
+        };
+        let comp = match k.trim() {
+            "ux" => 0,
+            "uy" => 1,
+            "uz" => 2,
+            other => {
+                return bad(format!(
+                    "option {name}: unknown component '{other}' (ux, uy, uz)"
+                ))
+            }
+        };
+        out.push((comp, parse_f64(name, v)?));
+    }
+    Ok(out)
+}
+
+impl Settings {
+    /// Reads every option. Runs identically on every rank, so its errors are collective.
+    pub fn from_options() -> Result<Settings, Error> {
+        let mesh = match (get("-mesh")?, get("-mesh_generate")?) {
+            // -mesh_generate wins, so that `-options_file F -mesh_generate hertz2d`
+            // reruns a scene of F on a generated mesh.
+            (Some(f), None) if f.trim().is_empty() => return bad("option -mesh needs a file name"),
+            (Some(f), None) => MeshSource::File(f.trim().to_string()),
+            (_, Some(g)) => {
+                let name = g.trim().to_string();
+                if name != "hertz2d" {
+                    return bad(format!(
+                        "option -mesh_generate: unknown mesh '{name}' (hertz2d)"
+                    ));
+                }
+                let h = get_f64("-mesh_h")?.unwrap_or(0.5);
+                if h <= 0.0 {
+                    return bad(format!("option -mesh_h: {h} is not positive"));
+                }
+                MeshSource::Generate { name, h }
+            }
+            (None, None) => return bad("no mesh: give -mesh FILE or -mesh_generate hertz2d"),
+        };
+        let Some(young) = get_f64("-E")? else {
+            return bad("option -E (Young's modulus) is required");
+        };
+        if young <= 0.0 {
+            return bad(format!("option -E: {young} is not positive"));
+        }
+        let Some(nu) = get_f64("-nu")? else {
+            return bad("option -nu (Poisson's ratio) is required");
+        };
+        if !(nu > -1.0 && nu < 0.5) {
+            return bad(format!("option -nu: {nu} is outside (-1, 0.5)"));
+        }
+        let plane_stress = get_bool("-plane_stress")?;
+
+        let mut dirichlet = Vec::new();
+        let mut traction = Vec::new();
+        for opt in options::all_names()? {
+            if let Some(group) = opt.strip_prefix("-dirichlet_") {
+                let s = get(&opt)?.unwrap_or_default();
+                dirichlet.push(DirichletBc {
+                    group: group.to_string(),
+                    comps: parse_dirichlet(&opt, &s)?,
+                });
+            } else if let Some(group) = opt.strip_prefix("-traction_") {
+                let t = get_vec(&opt)?.unwrap_or_default();
+                traction.push(TractionBc {
+                    group: group.to_string(),
+                    traction: t,
+                });
+            }
+        }
+        dirichlet.sort_by(|a, b| a.group.cmp(&b.group));
+        dirichlet.dedup_by(|a, b| a.group == b.group);
+        traction.sort_by(|a, b| a.group.cmp(&b.group));
+        traction.dedup_by(|a, b| a.group == b.group);
+
+        let contact = match get_word("-contact_surface")? {
+            None => None,
+            Some(surface) => {
+                let Some(direction) = get_vec("-contact_direction")? else {
+                    return bad("option -contact_direction is required with -contact_surface");
+                };
+                let norm = direction.iter().map(|v| v * v).sum::<f64>().sqrt();
+                if (norm - 1.0).abs() > 1e-6 {
+                    return bad(format!(
+                        "option -contact_direction: ({}) is not a unit vector (norm {norm})",
+                        direction
+                            .iter()
+                            .map(|v| v.to_string())
+                            .collect::<Vec<_>>()
+                            .join(",")
+                    ));
+                }
+                let obstacle = match get_word("-obstacle")?.as_deref() {
+                    None => {
+                        return bad(
+                            "option -obstacle (plane or ball) is required with -contact_surface",
+                        )
+                    }
+                    Some("plane") => {
+                        let Some(point) = get_vec("-obstacle_point")? else {
+                            return bad("option -obstacle_point is required with -obstacle plane");
+                        };
+                        Obstacle::Plane { point }
+                    }
+                    Some("ball") => {
+                        let Some(center) = get_vec("-obstacle_center")? else {
+                            return bad("option -obstacle_center is required with -obstacle ball");
+                        };
+                        let Some(radius) = get_f64("-obstacle_radius")? else {
+                            return bad("option -obstacle_radius is required with -obstacle ball");
+                        };
+                        if radius <= 0.0 {
+                            return bad(format!(
+                                "option -obstacle_radius: {radius} is not positive"
+                            ));
+                        }
+                        Obstacle::Ball { center, radius }
+                    }
+                    Some(other) => {
+                        return bad(format!(
+                            "option -obstacle: unknown obstacle '{other}' (plane, ball)"
+                        ))
+                    }
+                };
+                Some(ContactSettings {
+                    surface,
+                    direction,
+                    obstacle,
+                })
+            }
+        };
+
+        let friction = match get_word("-friction")?.as_deref() {
+            None | Some("none") => Friction::None,
+            Some("tresca") => Friction::Tresca,
+            Some("coulomb") => Friction::Coulomb,
+            Some(o) => {
+                return bad(format!(
+                    "option -friction: unknown law '{o}' (none, tresca, coulomb)"
+                ))
+            }
+        };
+        let algorithm = get_word("-contact_algorithm")?.unwrap_or_else(|| "ubr".into());
+        if algorithm != "ubr" && algorithm != "ssn" {
+            return bad(format!(
+                "option -contact_algorithm: unknown algorithm '{algorithm}' (ubr, ssn)"
+            ));
+        }
+
+        let r = get_f64("-ubr_r")?.unwrap_or(young);
+        if r <= 0.0 {
+            return bad(format!("option -ubr_r: {r} is not positive"));
+        }
+        let rho = get_f64("-ubr_rho")?.unwrap_or(r);
+        if rho <= 0.0 {
+            return bad(format!("option -ubr_rho: {rho} is not positive"));
+        }
+        let rtol = get_f64("-ubr_rtol")?.unwrap_or(1e-5);
+        if rtol <= 0.0 {
+            return bad(format!("option -ubr_rtol: {rtol} is not positive"));
+        }
+        let residual_tol = get_f64("-ubr_residual_tol")?.unwrap_or(1e-3);
+        if residual_tol <= 0.0 {
+            return bad(format!(
+                "option -ubr_residual_tol: {residual_tol} is not positive"
+            ));
+        }
+        let fp_rtol = get_f64("-ubr_fp_rtol")?.unwrap_or(1e-4);
+        if fp_rtol <= 0.0 {
+            return bad(format!("option -ubr_fp_rtol: {fp_rtol} is not positive"));
+        }
+        let ubr = UbrSettings {
+            r,
+            rho,
+            rtol,
+            residual_tol,
+            max_it: get_usize("-ubr_max_it", 10000)?,
+            fp_rtol,
+            fp_max_it: get_usize("-ubr_fp_max_it", 100)?,
+            monitor: get_bool("-ubr_monitor")?,
+        };
+
+        let reference = match get_word("-reference")?.as_deref() {
+            None => None,
+            Some("hertz") => {
+                let Some(force) = get_f64("-reference_force")? else {
+                    return bad("option -reference_force is required with -reference hertz");
+                };
+                let Some(radius) = get_f64("-reference_radius")? else {
+                    return bad("option -reference_radius is required with -reference hertz");
+                };
+                if force <= 0.0 || radius <= 0.0 {
+                    return bad("options -reference_force and -reference_radius must be positive");
+                }
+                Some(HertzReference {
+                    force,
+                    radius,
+                    center: get_vec("-reference_center")?,
+                })
+            }
+            Some(o) => {
+                return bad(format!(
+                    "option -reference: unknown reference '{o}' (hertz)"
+                ))
+            }
+        };
+        let report = get_word("-report")?;
+        let contact_output = get_word("-contact_output")?;
+        // Options of later issues, read here so -options_left does not flag them.
+        let _ = get_f64("-friction_coefficient")?;
+        let _ = get("-tresca_bound")?;
+        let _ = get_f64("-ssn_r")?;
+
+        Ok(Settings {
+            mesh,
+            young,
+            nu,
+            plane_stress,
+            dirichlet,
+            traction,
+            contact,
+            friction,
+            algorithm,
+            ubr,
+            reference,
+            report,
+            contact_output,
+        })
+    }
+}

@@ -1,0 +1,266 @@
+//! Thin, owned bindings to PETSc: the bindgen'd `sys` module and RAII wrappers.
+//!
+//! Every `PetscErrorCode` goes through [`check`], which turns it into an
+//! [`Error::Petsc`] carrying PETSc's own message (captured by an error handler
+//! installed at start-up, so PETSc prints no traceback of its own).
+
+#[allow(
+    non_camel_case_types,
+    non_snake_case,
+    non_upper_case_globals,
+    dead_code,
+    improper_ctypes,
+    clippy::all
+)]
+pub mod sys {
+    include!(concat!(env!("OUT_DIR"), "/petsc_sys.rs"));
+}
+
+mod objects;
+pub use objects::*;
+
+use crate::error::Error;
+use std::cell::RefCell;
+use std::ffi::{c_char, c_int, c_void, CStr, CString};
+
+thread_local! {
+    static LAST_ERROR: RefCell<Option<String>> = const { RefCell::new(None) };
+}
+
+unsafe extern "C" fn record_error(
+    _comm: sys::MPI_Comm,
+    line: c_int,
+    func: *const c_char,
+    file: *const c_char,
+    n: sys::PetscErrorCode,
+    p: sys::PetscErrorType,
+    mess: *const c_char,
+    _ctx: *mut c_void,
+) -> sys::PetscErrorCode {
+    let s = |ptr: *const c_char| {
+        if ptr.is_null() {
+            String::new()
+        } else {
+            CStr::from_ptr(ptr).to_string_lossy().into_owned()
+        }
+    };
+    if p == sys::PETSC_ERROR_INITIAL {
+        let mut text = s(mess).trim().to_string();
+        if text.is_empty() {
+            let mut generic: *const c_char = std::ptr::null();
+            sys::PetscErrorMessage(n, &mut generic, std::ptr::null_mut());
+            text = s(generic);
+        }
+        let msg = format!(
+            "{} (PETSc error {n} in {}() at {}:{line})",
+            text,
+            s(func),
+            s(file)
+        );
+        LAST_ERROR.with(|e| *e.borrow_mut() = Some(msg));
+    }
+    n
+}
+
+/// Turns a PETSc error code into a `Result`.
+pub fn check(code: sys::PetscErrorCode) -> Result<(), Error> {
+    if code == 0 {
+        return Ok(());
+    }
+    let message = LAST_ERROR
+        .with(|e| e.borrow_mut().take())
+        .unwrap_or_else(|| format!("PETSc error {code}"));
+    Err(Error::Petsc { code, message })
+}
+
+/// PETSc's lifetime. Created after MPI (rsmpi) and dropped before it:
+/// dropping calls `PetscFinalize`, which prints `-log_view`.
+pub struct Petsc {
+    _private: (),
+}
+
+impl Petsc {
+    /// Initializes PETSc on `comm` with the process's real arguments, so that
+    /// `-options_file`, `-help` and `-log_view` work.
+    pub fn init(comm: sys::MPI_Comm) -> Result<Petsc, Error> {
+        let args: Vec<CString> = std::env::args()
+            .map(|a| CString::new(a).unwrap_or_else(|_| CString::new("?").unwrap()))
+            .collect();
+        // PETSc keeps pointers to argv: leak it for the life of the process.
+        let mut ptrs: Vec<*mut c_char> = args.into_iter().map(|a| a.into_raw()).collect();
+        let mut argc = ptrs.len() as c_int;
+        ptrs.push(std::ptr::null_mut());
+        let mut argv = Box::leak(ptrs.into_boxed_slice()).as_mut_ptr();
+        unsafe {
+            sys::PETSC_COMM_WORLD = comm;
+            let code = sys::PetscInitialize(
+                &mut argc,
+                &mut argv,
+                std::ptr::null(),
+                c"ubr-petsc: Uzawa block relaxation for unilateral contact. Run with -help for the options.\n"
+                    .as_ptr(),
+            );
+            if code != 0 {
+                return Err(Error::Petsc {
+                    code,
+                    message: "PetscInitialize failed".into(),
+                });
+            }
+            check(sys::PetscPushErrorHandler(
+                Some(record_error),
+                std::ptr::null_mut(),
+            ))?;
+        }
+        Ok(Petsc { _private: () })
+    }
+}
+
+impl Drop for Petsc {
+    fn drop(&mut self) {
+        unsafe {
+            sys::PetscFinalize();
+        }
+    }
+}
+
+/// PETSc's world communicator (set from rsmpi's world at `Petsc::init`).
+pub fn comm_world() -> sys::MPI_Comm {
+    unsafe { sys::PETSC_COMM_WORLD }
+}
+
+/// The options database, read as strings and parsed by the caller so that
+/// errors name the option.
+pub mod options {
+    use super::*;
+
+    fn cname(name: &str) -> CString {
+        CString::new(name).expect("option names have no NUL")
+    }
+
+    /// The raw string value of `-name`, `Some("")` when given without a value.
+    pub fn get_string(name: &str) -> Result<Option<String>, Error> {
+        let key = cname(name);
+        let mut buf = vec![0 as c_char; 4096];
+        let mut set = sys::PETSC_FALSE;
+        unsafe {
+            check(sys::PetscOptionsGetString(
+                std::ptr::null_mut(),
+                std::ptr::null(),
+                key.as_ptr(),
+                buf.as_mut_ptr(),
+                buf.len(),
+                &mut set,
+            ))?;
+        }
+        if set == sys::PETSC_FALSE {
+            return Ok(None);
+        }
+        let s = unsafe { CStr::from_ptr(buf.as_ptr()) };
+        Ok(Some(s.to_string_lossy().into_owned()))
+    }
+
+    pub fn has_name(name: &str) -> Result<bool, Error> {
+        let key = cname(name);
+        let mut set = sys::PETSC_FALSE;
+        unsafe {
+            check(sys::PetscOptionsHasName(
+                std::ptr::null_mut(),
+                std::ptr::null(),
+                key.as_ptr(),
+                &mut set,
+            ))?;
+        }
+        Ok(set == sys::PETSC_TRUE)
+    }
+
+    /// Sets `-name value` unless the user already set `-name`.
+    pub fn set_default(name: &str, value: &str) -> Result<(), Error> {
+        if has_name(name)? {
+            return Ok(());
+        }
+        let key = cname(name);
+        let val = cname(value);
+        unsafe {
+            check(sys::PetscOptionsSetValue(
+                std::ptr::null_mut(),
+                key.as_ptr(),
+                val.as_ptr(),
+            ))
+        }
+    }
+
+    /// The names of every option in the database (with their leading `-`).
+    pub fn all_names() -> Result<Vec<String>, Error> {
+        let mut ptr: *mut c_char = std::ptr::null_mut();
+        unsafe {
+            check(sys::PetscOptionsGetAll(std::ptr::null_mut(), &mut ptr))?;
+        }
+        let all = unsafe { CStr::from_ptr(ptr).to_string_lossy().into_owned() };
+        unsafe {
+            sys::ubr_free(ptr as *mut c_void);
+        }
+        Ok(all
+            .split_whitespace()
+            .filter(|t| t.starts_with('-') && t.len() > 1 && t.parse::<f64>().is_err())
+            .map(|t| t.to_string())
+            .collect())
+    }
+}
+
+/// A `-log_view` stage. `push` returns a guard that pops it.
+#[derive(Clone, Copy)]
+pub struct LogStage(sys::PetscLogStage);
+
+impl LogStage {
+    pub fn register(name: &str) -> Result<LogStage, Error> {
+        let n = CString::new(name).unwrap();
+        let mut s: sys::PetscLogStage = 0;
+        unsafe { check(sys::PetscLogStageRegister(n.as_ptr(), &mut s))? };
+        Ok(LogStage(s))
+    }
+    pub fn push(self) -> Result<StageGuard, Error> {
+        unsafe { check(sys::PetscLogStagePush(self.0))? };
+        Ok(StageGuard)
+    }
+}
+
+pub struct StageGuard;
+impl Drop for StageGuard {
+    fn drop(&mut self) {
+        unsafe {
+            sys::PetscLogStagePop();
+        }
+    }
+}
+
+/// A `-log_view` event.
+#[derive(Clone, Copy)]
+pub struct LogEvent(sys::PetscLogEvent);
+
+impl LogEvent {
+    pub fn register(name: &str) -> Result<LogEvent, Error> {
+        let n = CString::new(name).unwrap();
+        let mut classid: sys::PetscClassId = 0;
+        let mut e: sys::PetscLogEvent = 0;
+        unsafe {
+            check(sys::PetscClassIdRegister(c"UBR".as_ptr(), &mut classid))?;
+            check(sys::PetscLogEventRegister(n.as_ptr(), classid, &mut e))?;
+        }
+        Ok(LogEvent(e))
+    }
+    pub fn begin(self) -> EventGuard {
+        unsafe {
+            sys::ubr_log_event_begin(self.0);
+        }
+        EventGuard(self.0)
+    }
+}
+
+pub struct EventGuard(sys::PetscLogEvent);
+impl Drop for EventGuard {
+    fn drop(&mut self) {
+        unsafe {
+            sys::ubr_log_event_end(self.0);
+        }
+    }
+}

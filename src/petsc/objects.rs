@@ -1,0 +1,390 @@
+//! RAII wrappers for the PETSc objects the solver uses: Vec, Mat, KSP, MatNullSpace.
+
+use super::{check, sys};
+use crate::error::Error;
+use std::ffi::CStr;
+
+/// A distributed PETSc vector (`Vec`).
+pub struct Vector {
+    pub(crate) raw: sys::Vec,
+}
+
+impl Drop for Vector {
+    fn drop(&mut self) {
+        unsafe {
+            sys::VecDestroy(&mut self.raw);
+        }
+    }
+}
+
+impl Vector {
+    /// An MPI vector with `local` entries on this rank and block size `bs`.
+    pub fn new(comm: sys::MPI_Comm, local: usize, bs: usize) -> Result<Vector, Error> {
+        let mut raw: sys::Vec = std::ptr::null_mut();
+        unsafe {
+            check(sys::VecCreate(comm, &mut raw))?;
+            let v = Vector { raw };
+            check(sys::VecSetSizes(
+                v.raw,
+                local as sys::PetscInt,
+                sys::PETSC_DETERMINE,
+            ))?;
+            check(sys::VecSetBlockSize(v.raw, bs as sys::PetscInt))?;
+            check(sys::VecSetType(
+                v.raw,
+                sys::VECSTANDARD.as_ptr() as *const _,
+            ))?;
+            Ok(v)
+        }
+    }
+
+    pub fn duplicate(&self) -> Result<Vector, Error> {
+        let mut raw: sys::Vec = std::ptr::null_mut();
+        unsafe { check(sys::VecDuplicate(self.raw, &mut raw))? };
+        Ok(Vector { raw })
+    }
+
+    pub fn set(&self, value: f64) -> Result<(), Error> {
+        unsafe { check(sys::VecSet(self.raw, value)) }
+    }
+
+    pub fn copy_from(&self, other: &Vector) -> Result<(), Error> {
+        unsafe { check(sys::VecCopy(other.raw, self.raw)) }
+    }
+
+    /// `self += alpha * x`.
+    pub fn axpy(&self, alpha: f64, x: &Vector) -> Result<(), Error> {
+        unsafe { check(sys::VecAXPY(self.raw, alpha, x.raw)) }
+    }
+
+    pub fn norm2(&self) -> Result<f64, Error> {
+        let mut n = 0.0;
+        unsafe { check(sys::VecNorm(self.raw, sys::NORM_2, &mut n))? };
+        Ok(n)
+    }
+
+    pub fn local_size(&self) -> Result<usize, Error> {
+        let mut n: sys::PetscInt = 0;
+        unsafe { check(sys::VecGetLocalSize(self.raw, &mut n))? };
+        Ok(n as usize)
+    }
+
+    /// Reads the locally owned entries.
+    pub fn read<R>(&self, f: impl FnOnce(&[f64]) -> R) -> Result<R, Error> {
+        let n = self.local_size()?;
+        let mut ptr: *const f64 = std::ptr::null();
+        unsafe { check(sys::VecGetArrayRead(self.raw, &mut ptr))? };
+        let slice = if n == 0 {
+            &[][..]
+        } else {
+            unsafe { std::slice::from_raw_parts(ptr, n) }
+        };
+        let r = f(slice);
+        unsafe { check(sys::VecRestoreArrayRead(self.raw, &mut ptr))? };
+        Ok(r)
+    }
+
+    /// Writes the locally owned entries.
+    pub fn write<R>(&self, f: impl FnOnce(&mut [f64]) -> R) -> Result<R, Error> {
+        let n = self.local_size()?;
+        let mut ptr: *mut f64 = std::ptr::null_mut();
+        unsafe { check(sys::VecGetArray(self.raw, &mut ptr))? };
+        let slice = if n == 0 {
+            &mut [][..]
+        } else {
+            unsafe { std::slice::from_raw_parts_mut(ptr, n) }
+        };
+        let r = f(slice);
+        unsafe { check(sys::VecRestoreArray(self.raw, &mut ptr))? };
+        Ok(r)
+    }
+}
+
+/// A distributed sparse matrix (`MATAIJ`).
+pub struct Matrix {
+    pub(crate) raw: sys::Mat,
+}
+
+impl Drop for Matrix {
+    fn drop(&mut self) {
+        unsafe {
+            sys::MatDestroy(&mut self.raw);
+        }
+    }
+}
+
+/// What `MatGetInfo` says of an assembled matrix (summed over ranks).
+#[derive(Clone, Copy, Debug)]
+pub struct MatStats {
+    pub nonzeros_used: f64,
+    pub nonzeros_allocated: f64,
+    pub mallocs: f64,
+}
+
+impl Matrix {
+    /// An AIJ matrix with `local` rows and columns on this rank, block size `bs`,
+    /// preallocated exactly by the per-row counts of the diagonal (`d_nnz`) and
+    /// off-diagonal (`o_nnz`) blocks. A malloc during assembly is an error.
+    pub fn new_aij(
+        comm: sys::MPI_Comm,
+        local: usize,
+        bs: usize,
+        d_nnz: &[sys::PetscInt],
+        o_nnz: &[sys::PetscInt],
+    ) -> Result<Matrix, Error> {
+        let mut raw: sys::Mat = std::ptr::null_mut();
+        unsafe {
+            check(sys::MatCreate(comm, &mut raw))?;
+            let m = Matrix { raw };
+            let n = local as sys::PetscInt;
+            check(sys::MatSetSizes(
+                m.raw,
+                n,
+                n,
+                sys::PETSC_DETERMINE,
+                sys::PETSC_DETERMINE,
+            ))?;
+            check(sys::MatSetBlockSize(m.raw, bs as sys::PetscInt))?;
+            check(sys::MatSetType(m.raw, sys::MATAIJ.as_ptr() as *const _))?;
+            check(sys::MatSeqAIJSetPreallocation(m.raw, 0, d_nnz.as_ptr()))?;
+            check(sys::MatMPIAIJSetPreallocation(
+                m.raw,
+                0,
+                d_nnz.as_ptr(),
+                0,
+                o_nnz.as_ptr(),
+            ))?;
+            check(sys::MatSetOption(
+                m.raw,
+                sys::MAT_NEW_NONZERO_ALLOCATION_ERR,
+                sys::PETSC_TRUE,
+            ))?;
+            check(sys::MatSetOption(
+                m.raw,
+                sys::MAT_NO_OFF_PROC_ENTRIES,
+                sys::PETSC_TRUE,
+            ))?;
+            Ok(m)
+        }
+    }
+
+    /// Adds a dense block; rows given as -1 are skipped (PETSc ignores negative indices).
+    pub fn add_values(
+        &self,
+        rows: &[sys::PetscInt],
+        cols: &[sys::PetscInt],
+        vals: &[f64],
+    ) -> Result<(), Error> {
+        debug_assert_eq!(rows.len() * cols.len(), vals.len());
+        unsafe {
+            check(sys::MatSetValues(
+                self.raw,
+                rows.len() as sys::PetscInt,
+                rows.as_ptr(),
+                cols.len() as sys::PetscInt,
+                cols.as_ptr(),
+                vals.as_ptr(),
+                sys::ADD_VALUES,
+            ))
+        }
+    }
+
+    pub fn assemble(&self) -> Result<(), Error> {
+        unsafe {
+            check(sys::MatAssemblyBegin(self.raw, sys::MAT_FINAL_ASSEMBLY))?;
+            check(sys::MatAssemblyEnd(self.raw, sys::MAT_FINAL_ASSEMBLY))
+        }
+    }
+
+    pub fn set_spd(&self) -> Result<(), Error> {
+        unsafe {
+            check(sys::MatSetOption(self.raw, sys::MAT_SPD, sys::PETSC_TRUE))?;
+            check(sys::MatSetOption(
+                self.raw,
+                sys::MAT_SYMMETRIC,
+                sys::PETSC_TRUE,
+            ))?;
+            check(sys::MatSetOption(
+                self.raw,
+                sys::MAT_SYMMETRY_ETERNAL,
+                sys::PETSC_TRUE,
+            ))
+        }
+    }
+
+    /// `y = A x`.
+    pub fn mult(&self, x: &Vector, y: &Vector) -> Result<(), Error> {
+        unsafe { check(sys::MatMult(self.raw, x.raw, y.raw)) }
+    }
+
+    /// Zeroes the given global rows and columns and puts `diag` on the diagonal.
+    pub fn zero_rows_columns(&self, rows: &[sys::PetscInt], diag: f64) -> Result<(), Error> {
+        unsafe {
+            check(sys::MatZeroRowsColumns(
+                self.raw,
+                rows.len() as sys::PetscInt,
+                rows.as_ptr(),
+                diag,
+                std::ptr::null_mut(),
+                std::ptr::null_mut(),
+            ))
+        }
+    }
+
+    pub fn diagonal(&self, d: &Vector) -> Result<(), Error> {
+        unsafe { check(sys::MatGetDiagonal(self.raw, d.raw)) }
+    }
+
+    pub fn stats(&self) -> Result<MatStats, Error> {
+        let mut info = sys::MatInfo::default();
+        unsafe { check(sys::MatGetInfo(self.raw, sys::MAT_GLOBAL_SUM, &mut info))? };
+        Ok(MatStats {
+            nonzeros_used: info.nz_used,
+            nonzeros_allocated: info.nz_allocated,
+            mallocs: info.mallocs,
+        })
+    }
+
+    pub fn set_near_nullspace(&self, ns: &NullSpace) -> Result<(), Error> {
+        unsafe { check(sys::MatSetNearNullSpace(self.raw, ns.raw)) }
+    }
+}
+
+/// A (near-)null space, e.g. the rigid-body modes built from coordinates.
+pub struct NullSpace {
+    raw: sys::MatNullSpace,
+}
+
+impl Drop for NullSpace {
+    fn drop(&mut self) {
+        unsafe {
+            sys::MatNullSpaceDestroy(&mut self.raw);
+        }
+    }
+}
+
+impl NullSpace {
+    /// Rigid-body modes from a coordinate vector whose block size is the dimension.
+    pub fn rigid_body(coords: &Vector) -> Result<NullSpace, Error> {
+        let mut raw: sys::MatNullSpace = std::ptr::null_mut();
+        unsafe { check(sys::MatNullSpaceCreateRigidBody(coords.raw, &mut raw))? };
+        Ok(NullSpace { raw })
+    }
+}
+
+/// A Krylov solver (`KSP`) with its preconditioner.
+pub struct Ksp {
+    raw: sys::KSP,
+}
+
+impl Drop for Ksp {
+    fn drop(&mut self) {
+        unsafe {
+            sys::KSPDestroy(&mut self.raw);
+        }
+    }
+}
+
+impl Ksp {
+    pub fn new(comm: sys::MPI_Comm) -> Result<Ksp, Error> {
+        let mut raw: sys::KSP = std::ptr::null_mut();
+        unsafe { check(sys::KSPCreate(comm, &mut raw))? };
+        Ok(Ksp { raw })
+    }
+
+    pub fn set_operators(&self, a: &Matrix) -> Result<(), Error> {
+        unsafe { check(sys::KSPSetOperators(self.raw, a.raw, a.raw)) }
+    }
+
+    /// Reads `-ksp_*` and `-pc_*`: the user's choice wins over the defaults
+    /// set before this call.
+    pub fn set_from_options(&self) -> Result<(), Error> {
+        unsafe { check(sys::KSPSetFromOptions(self.raw)) }
+    }
+
+    pub fn set_up(&self) -> Result<(), Error> {
+        unsafe { check(sys::KSPSetUp(self.raw)) }
+    }
+
+    pub fn set_initial_guess_nonzero(&self, yes: bool) -> Result<(), Error> {
+        let flag = if yes {
+            sys::PETSC_TRUE
+        } else {
+            sys::PETSC_FALSE
+        };
+        unsafe { check(sys::KSPSetInitialGuessNonzero(self.raw, flag)) }
+    }
+
+    pub fn set_rtol(&self, rtol: f64) -> Result<(), Error> {
+        unsafe {
+            check(sys::KSPSetTolerances(
+                self.raw,
+                rtol,
+                sys::PETSC_DEFAULT as f64,
+                sys::PETSC_DEFAULT as f64,
+                sys::PETSC_DEFAULT,
+            ))
+        }
+    }
+
+    /// Solves `A x = b`; a solve that PETSc reports as diverged (a failed
+    /// factorization, a breakdown, too many iterations) is an error.
+    pub fn solve(&self, b: &Vector, x: &Vector) -> Result<usize, Error> {
+        unsafe { check(sys::KSPSolve(self.raw, b.raw, x.raw))? };
+        let mut reason: sys::KSPConvergedReason = 0;
+        let mut its: sys::PetscInt = 0;
+        unsafe {
+            check(sys::KSPGetConvergedReason(self.raw, &mut reason))?;
+            check(sys::KSPGetIterationNumber(self.raw, &mut its))?;
+        }
+        if (reason as i32) < 0 {
+            let mut name: *const std::ffi::c_char = std::ptr::null();
+            unsafe {
+                sys::KSPGetConvergedReasonString(self.raw, &mut name);
+            }
+            let name = if name.is_null() {
+                format!("{}", reason as i32)
+            } else {
+                unsafe { CStr::from_ptr(name).to_string_lossy().into_owned() }
+            };
+            let mut detail = String::new();
+            if name.contains("PC_FAILED") {
+                let mut pc: sys::PC = std::ptr::null_mut();
+                let mut why: sys::PCFailedReason = 0;
+                unsafe {
+                    sys::KSPGetPC(self.raw, &mut pc);
+                    sys::PCGetFailedReasonRank(pc, &mut why);
+                }
+                detail = format!(" (preconditioner failure reason {})", why as i32);
+            }
+            return Err(Error::LinearSolver(format!(
+                "linear solve failed after {its} iterations: {name}{detail}"
+            )));
+        }
+        Ok(its as usize)
+    }
+
+    pub fn pc_type(&self) -> Result<String, Error> {
+        let mut pc: sys::PC = std::ptr::null_mut();
+        let mut t: sys::PCType = std::ptr::null();
+        unsafe {
+            check(sys::KSPGetPC(self.raw, &mut pc))?;
+            check(sys::PCGetType(pc, &mut t))?;
+        }
+        Ok(if t.is_null() {
+            String::new()
+        } else {
+            unsafe { CStr::from_ptr(t).to_string_lossy().into_owned() }
+        })
+    }
+
+    pub fn ksp_type(&self) -> Result<String, Error> {
+        let mut t: sys::KSPType = std::ptr::null();
+        unsafe { check(sys::KSPGetType(self.raw, &mut t))? };
+        Ok(if t.is_null() {
+            String::new()
+        } else {
+            unsafe { CStr::from_ptr(t).to_string_lossy().into_owned() }
+        })
+    }
+}

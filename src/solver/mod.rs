@@ -1,0 +1,219 @@
+//! The discrete contact problem on this rank's part, and the algorithms that
+//! solve it (one file per paper algorithm).
+//!
+//! [`Problem::setup`] assembles `K + r B^T W B` once (with Dirichlet rows and
+//! columns eliminated symmetrically), the lifted load vector, and the KSP,
+//! whose factorization (`KSPSetUp`) happens once, in the Factorization stage.
+
+pub mod ubr;
+
+use crate::contact::ContactSet;
+use crate::error::Error;
+use crate::fem;
+use crate::mesh::distribute::LocalMesh;
+use crate::options::Settings;
+use crate::petsc::{self, options, sys, Ksp, Matrix, NullSpace, Vector};
+use mpi::collective::SystemOperation;
+use mpi::traits::*;
+
+/// Sum of `vals` over all ranks, in one reduction.
+pub fn allreduce_sum<C: Communicator, const N: usize>(world: &C, vals: [f64; N]) -> [f64; N] {
+    let mut out = [0.0; N];
+    world.all_reduce_into(&vals[..], &mut out[..], SystemOperation::sum());
+    out
+}
+
+pub fn allreduce_max<C: Communicator>(world: &C, v: f64) -> f64 {
+    let mut out = 0.0;
+    world.all_reduce_into(&v, &mut out, SystemOperation::max());
+    out
+}
+
+pub fn allreduce_count<C: Communicator>(world: &C, v: usize) -> usize {
+    let mut out = 0u64;
+    world.all_reduce_into(&(v as u64), &mut out, SystemOperation::sum());
+    out as usize
+}
+
+/// Everything the iterations need, assembled once.
+pub struct Problem {
+    pub dim: usize,
+    /// `K + r B^T W B`, Dirichlet rows and columns replaced by `diag_scale * I`.
+    pub matrix: Matrix,
+    pub ksp: Ksp,
+    /// Right-hand side without contact terms: `f - A x_D` on free rows, `diag_scale * x_D` on Dirichlet rows.
+    pub rhs0: Vector,
+    /// The load vector f (tractions), for the equilibrium check.
+    pub load: Vector,
+    /// Owned dofs that carry a Dirichlet condition.
+    pub is_dirichlet: Vec<bool>,
+    pub lumped_mass: Vec<f64>,
+    pub contact: ContactSet,
+    pub r: f64,
+    /// Whether `r B_t^T W B_t` is in the matrix too (friction).
+    pub tangential: bool,
+    pub iterative: bool,
+    pub time_assembly: f64,
+    pub time_factorization: f64,
+    pub matrix_mallocs: f64,
+    pub ksp_description: String,
+}
+
+/// The UBR matrix block `r w (n n^T)` (frictionless) or `r w I` (with friction) of one node.
+pub fn contact_block(dim: usize, n: &[f64], rw: f64, tangential: bool) -> Vec<f64> {
+    let mut b = vec![0.0; dim * dim];
+    for i in 0..dim {
+        for j in 0..dim {
+            b[i * dim + j] = if tangential {
+                if i == j {
+                    rw
+                } else {
+                    0.0
+                }
+            } else {
+                rw * n[i] * n[j]
+            };
+        }
+    }
+    b
+}
+
+/// Chooses the default linear solver: a Cholesky factorization by MUMPS,
+/// unless the user picked something else.
+fn default_solver_options() -> Result<(), Error> {
+    let pc = options::get_string("-pc_type")?;
+    let direct = matches!(pc.as_deref(), None | Some("cholesky") | Some("lu"));
+    if direct {
+        options::set_default("-pc_type", "cholesky")?;
+        options::set_default("-ksp_type", "preonly")?;
+        options::set_default("-pc_factor_mat_solver_type", "mumps")?;
+        // Debian's MUMPS has no METIS/SCOTCH: AMD analyses fastest with the least fill (PETSC-NOTES).
+        if options::get_string("-pc_factor_mat_solver_type")?.as_deref() == Some("mumps") {
+            options::set_default("-mat_mumps_icntl_7", "0")?;
+        }
+    } else {
+        options::set_default("-ksp_type", "cg")?;
+    }
+    Ok(())
+}
+
+impl Problem {
+    pub fn setup<C: Communicator>(
+        world: &C,
+        mesh: &LocalMesh,
+        settings: &Settings,
+        contact: ContactSet,
+        tangential: bool,
+        stages: &crate::Stages,
+    ) -> Result<Problem, Error> {
+        let comm = petsc::comm_world();
+        let d = mesh.dim;
+        let r = settings.ubr.r;
+        let t0 = std::time::Instant::now();
+        let guard = stages.assembly.push()?;
+        let extra: Vec<(usize, Vec<f64>)> = contact
+            .node
+            .iter()
+            .zip(&contact.w)
+            .map(|(&v, &w)| (v, contact_block(d, &contact.n, r * w, tangential)))
+            .collect();
+        let el = fem::assemble_stiffness(comm, mesh, settings, &extra)?;
+        let a = el.stiffness;
+        let load_local = fem::traction_load(mesh, &settings.traction)?;
+        let dir = fem::dirichlet_dofs(mesh, &settings.dirichlet)?;
+        let nown = mesh.owned_count * d;
+        let load = Vector::new(comm, nown, d)?;
+        load.write(|f| f.copy_from_slice(&load_local))?;
+        let xd = load.duplicate()?;
+        xd.set(0.0)?;
+        xd.write(|x| {
+            for &(i, v) in &dir {
+                x[i] = v;
+            }
+        })?;
+        let rhs0 = load.duplicate()?;
+        a.mult(&xd, &rhs0)?;
+        // rhs0 = f - A x_D
+        rhs0.write(|b| {
+            load.read(|f| {
+                for (bi, fi) in b.iter_mut().zip(f) {
+                    *bi = fi - *bi;
+                }
+            })
+        })??;
+        // Dirichlet rows: scale the identity like the matrix so that
+        // iterative solvers and pivoting see no outlier.
+        let diag = load.duplicate()?;
+        a.diagonal(&diag)?;
+        let dsum = diag.read(|v| v.iter().map(|x| x.abs()).sum::<f64>())?;
+        let [dsum, dcount] = allreduce_sum(world, [dsum, nown as f64]);
+        let diag_scale = if dcount > 0.0 && dsum > 0.0 {
+            dsum / dcount
+        } else {
+            1.0
+        };
+        let rows: Vec<sys::PetscInt> = dir
+            .iter()
+            .map(|&(i, _)| (mesh.owned_start * d + i) as sys::PetscInt)
+            .collect();
+        a.zero_rows_columns(&rows, diag_scale)?;
+        rhs0.write(|b| {
+            for &(i, v) in &dir {
+                b[i] = diag_scale * v;
+            }
+        })?;
+        let mut is_dirichlet = vec![false; nown];
+        for &(i, _) in &dir {
+            is_dirichlet[i] = true;
+        }
+        a.set_spd()?;
+        let matrix_mallocs = a.stats()?.mallocs;
+        drop(guard);
+        let time_assembly = t0.elapsed().as_secs_f64();
+
+        let t1 = std::time::Instant::now();
+        let guard = stages.factorization.push()?;
+        default_solver_options()?;
+        let ksp = Ksp::new(comm)?;
+        ksp.set_operators(&a)?;
+        ksp.set_from_options()?;
+        let pc_type = ksp.pc_type()?;
+        let ksp_type = ksp.ksp_type()?;
+        let iterative = ksp_type != "preonly";
+        if pc_type == "gamg" || pc_type == "ml" || pc_type == "hypre" {
+            let coords = Vector::new(comm, nown, d)?;
+            coords.write(|c| c.copy_from_slice(&mesh.coords[..nown]))?;
+            let ns = NullSpace::rigid_body(&coords)?;
+            a.set_near_nullspace(&ns)?;
+        }
+        if iterative {
+            ksp.set_initial_guess_nonzero(true)?;
+        }
+        ksp.set_up()?;
+        drop(guard);
+        let time_factorization = t1.elapsed().as_secs_f64();
+        let ksp_description = match options::get_string("-pc_factor_mat_solver_type")? {
+            Some(s) if pc_type == "cholesky" || pc_type == "lu" => {
+                format!("{ksp_type} + {pc_type} ({s})")
+            }
+            _ => format!("{ksp_type} + {pc_type}"),
+        };
+        Ok(Problem {
+            dim: d,
+            matrix: a,
+            ksp,
+            rhs0,
+            load,
+            is_dirichlet,
+            lumped_mass: el.lumped_mass,
+            contact,
+            r,
+            tangential,
+            iterative,
+            time_assembly,
+            time_factorization,
+            matrix_mallocs,
+            ksp_description,
+        })
+    }
+}

@@ -1,0 +1,127 @@
+//! Scenes run under mpirun: an options set, a rank count, and the numbers
+//! the run must reproduce (read back from its JSON report and contact CSV).
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+pub const BIN: &str = env!("CARGO_BIN_EXE_ubr-petsc");
+
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A fresh scratch directory for one test.
+pub fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("ubr-test-{}-{}", name, std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+pub struct Run {
+    pub status: Option<i32>,
+    pub stdout: String,
+    pub stderr: String,
+    pub seconds: f64,
+}
+
+/// Runs `mpirun -n ranks ubr-petsc args...` from the repository root.
+pub fn mpirun(ranks: usize, args: &[&str]) -> Run {
+    let t = Instant::now();
+    let mut cmd = Command::new("mpirun");
+    cmd.current_dir(root())
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
+        .env("OPENBLAS_NUM_THREADS", "1")
+        .env("OMP_NUM_THREADS", "1")
+        .env_remove("PETSC_OPTIONS")
+        .args(["-n", &ranks.to_string(), BIN])
+        .args(args);
+    let out: Output = cmd.output().expect("mpirun runs");
+    Run {
+        status: out.status.code(),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        seconds: t.elapsed().as_secs_f64(),
+    }
+}
+
+/// The Hertz scene of options/hertz with a different mesh and extra options.
+pub fn hertz_args<'a>(mesh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec!["-options_file", "options/hertz", "-mesh", mesh];
+    v.extend_from_slice(extra);
+    v
+}
+
+pub fn report(path: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap()
+}
+
+pub fn num(v: &serde_json::Value, key: &str) -> f64 {
+    v[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("report has no number '{key}': {v}"))
+}
+
+/// Contact CSV rows as (node, lambda_n, status).
+pub fn contact_csv(path: &Path) -> Vec<(u64, f64, String)> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap();
+    assert_eq!(
+        header,
+        "node,x,y,z,weight,gap,un,ut_x,ut_y,ut_z,lambda_n,lambda_t_x,lambda_t_y,lambda_t_z,status"
+    );
+    lines
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            assert_eq!(f.len(), 15, "{l}");
+            (
+                f[0].parse().unwrap(),
+                f[10].parse().unwrap(),
+                f[14].to_string(),
+            )
+        })
+        .collect()
+}
+
+/// Runs a scene with a report and a contact CSV in a scratch dir.
+pub fn solve(
+    name: &str,
+    ranks: usize,
+    args: &[&str],
+) -> (Run, serde_json::Value, Vec<(u64, f64, String)>) {
+    let dir = scratch(name);
+    let rep = dir.join("report.json");
+    let csv = dir.join("contact.csv");
+    let (rs, cs) = (
+        rep.to_str().unwrap().to_string(),
+        csv.to_str().unwrap().to_string(),
+    );
+    let mut a: Vec<&str> = args.to_vec();
+    a.extend_from_slice(&["-report", &rs, "-contact_output", &cs]);
+    let run = mpirun(ranks, &a);
+    assert_eq!(
+        run.status,
+        Some(0),
+        "{name}: stdout:\n{}\nstderr:\n{}",
+        run.stdout,
+        run.stderr
+    );
+    let r = report(&rep);
+    let c = contact_csv(&csv);
+    let _ = std::fs::remove_dir_all(&dir);
+    (run, r, c)
+}
+
+pub fn within(limit: Duration, run: &Run) {
+    assert!(
+        run.seconds < limit.as_secs_f64(),
+        "took {:.1} s",
+        run.seconds
+    );
+}
