@@ -28,7 +28,7 @@ pub const HELP: &[(&str, &str, &str)] = &[
     ("-ubr_r R", "E", "augmentation parameter r of the augmented Lagrangian (3.7)"),
     ("-ubr_rho RHO", "r", "multiplier step rho in (4.4); convergence needs 0 < rho < r(1+sqrt 5)/2"),
     ("-ubr_rtol EPS", "1e-5", "relative tolerance eps_c = eps_f of the stopping tests (4.16), (5.6)"),
-    ("-ubr_residual_tol TOL", "1e-3", "tolerance on the constraint residual ||B u - phi||_{0,Gamma_c} (section 7)"),
+    ("-ubr_residual_tol TOL", "1e-3 * ubr_rtol / 1e-5", "tolerance on the constraint residual ||B u - phi||_{0,Gamma_c} (section 7)"),
     ("-ubr_max_it N", "10000", "maximum UBR iterations"),
     ("-ubr_fp_rtol EPS", "1e-4", "fixed-point tolerance eps_fp of (5.7) (CF-FP)"),
     ("-ubr_fp_max_it N", "100", "maximum fixed-point iterations (CF-FP)"),
@@ -369,7 +369,10 @@ impl Settings {
         if rtol <= 0.0 {
             return bad(format!("option -ubr_rtol: {rtol} is not positive"));
         }
-        let residual_tol = get_f64("-ubr_residual_tol")?.unwrap_or(1e-3);
+        // The paper's pair (eps = 1e-5, residual 1e-3) scaled together: a user who
+        // tightens -ubr_rtol tightens the constraint residual test too, unless
+        // -ubr_residual_tol is given.
+        let residual_tol = get_f64("-ubr_residual_tol")?.unwrap_or(1e-3 * rtol / 1e-5);
         if residual_tol <= 0.0 {
             return bad(format!(
                 "option -ubr_residual_tol: {residual_tol} is not positive"

@@ -35,8 +35,9 @@ impl ContactSet {
         let d = mesh.dim;
         let Some(group) = mesh.group(&settings.surface) else {
             return bad(format!(
-                "option -contact_surface: the mesh has no physical group '{}'",
-                settings.surface
+                "option -contact_surface: the mesh has no physical group '{}' (it has: {})",
+                settings.surface,
+                mesh.group_names()
             ));
         };
         if settings.direction.len() != d {
@@ -141,7 +142,9 @@ pub fn gap(x: &[f64], n: &[f64], obstacle: &Obstacle) -> Option<f64> {
 pub fn project_normal(un: f64, lambda: f64, g: f64, r: f64, rho: f64) -> (f64, f64, bool) {
     let gamma = (lambda + r * (un - g)).max(0.0); // (4.14)
     let phi = un + (lambda - gamma) / r; // (4.15)
-    let lambda_next = lambda + rho * (un - phi); // (4.4)
+                                         // (4.4): lambda + rho (un - phi) = lambda + (rho / r)(gamma - lambda); the
+                                         // second form gives gamma exactly (so lambda >= 0 exactly) when rho = r.
+    let lambda_next = lambda + (rho / r) * (gamma - lambda);
     (phi, lambda_next, gamma > 0.0)
 }
 

@@ -53,14 +53,13 @@ pub fn grad_p1_3d(x: &[[f64; 3]; 4]) -> ([[f64; 3]; 4], f64) {
     let det = j.determinant();
     let jinv_t = j.try_inverse().unwrap_or_else(SMatrix::zeros).transpose();
     let mut g = [[0.0; 3]; 4];
-    for a in 1..4 {
+    for (a, ga) in g.iter_mut().enumerate().skip(1) {
         let e = SVector::<f64, 3>::from_fn(|r, _| if r == a - 1 { 1.0 } else { 0.0 });
-        let ga = jinv_t * e;
-        g[a] = [ga[0], ga[1], ga[2]];
+        let v = jinv_t * e;
+        *ga = [v[0], v[1], v[2]];
     }
-    for k in 0..3 {
-        g[0][k] = -(g[1][k] + g[2][k] + g[3][k]);
-    }
+    let g0 = [0, 1, 2].map(|k| -(g[1][k] + g[2][k] + g[3][k]));
+    g[0] = g0;
     (g, det.abs() / 6.0)
 }
 
@@ -212,7 +211,7 @@ pub fn assemble_stiffness(
                 }
             }
         }
-        if !(measure > 0.0) || !measure.is_finite() {
+        if measure.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || !measure.is_finite() {
             let tags: Vec<String> = cell.iter().map(|&v| mesh.node_tag[v].to_string()).collect();
             return bad(format!(
                 "degenerate element {} (nodes {}): zero measure",
@@ -256,8 +255,10 @@ pub fn traction_load(mesh: &LocalMesh, tractions: &[TractionBc]) -> Result<Vec<f
     for t in tractions {
         let Some(group) = mesh.group(&t.group) else {
             return bad(format!(
-                "option -traction_{}: the mesh has no physical group '{}'",
-                t.group, t.group
+                "option -traction_{}: the mesh has no physical group '{}' (it has: {})",
+                t.group,
+                t.group,
+                mesh.group_names()
             ));
         };
         if t.traction.len() != d {
@@ -300,8 +301,10 @@ pub fn dirichlet_dofs(mesh: &LocalMesh, bcs: &[DirichletBc]) -> Result<Vec<(usiz
     for bc in bcs {
         let Some(group) = mesh.group(&bc.group) else {
             return bad(format!(
-                "option -dirichlet_{}: the mesh has no physical group '{}'",
-                bc.group, bc.group
+                "option -dirichlet_{}: the mesh has no physical group '{}' (it has: {})",
+                bc.group,
+                bc.group,
+                mesh.group_names()
             ));
         };
         for &(comp, value) in &bc.comps {
@@ -320,7 +323,7 @@ pub fn dirichlet_dofs(mesh: &LocalMesh, bcs: &[DirichletBc]) -> Result<Vec<(usiz
             }
         }
     }
-    out.sort_by(|a, b| a.0.cmp(&b.0));
+    out.sort_by_key(|a| a.0);
     out.dedup_by(|a, b| a.0 == b.0);
     Ok(out)
 }

@@ -47,6 +47,11 @@ impl LocalMesh {
     pub fn group(&self, name: &str) -> Option<&Group> {
         self.groups.iter().find(|g| g.name == name)
     }
+    /// "a, b, c": the names of the mesh's groups, for error messages.
+    pub fn group_names(&self) -> String {
+        let names: Vec<&str> = self.groups.iter().map(|g| g.name.as_str()).collect();
+        names.join(", ")
+    }
     pub fn x(&self, local: usize) -> &[f64] {
         &self.coords[local * self.dim..(local + 1) * self.dim]
     }
@@ -94,7 +99,7 @@ pub fn partition_nodes(mesh: &Mesh, nparts: usize) -> Result<Vec<usize>, Error> 
     for &p in &part {
         counts[p as usize] += 1;
     }
-    if !ok || counts.iter().any(|&c| c == 0) {
+    if !ok || counts.contains(&0) {
         // Contiguous blocks: every rank owns at least one node when n >= nparts.
         return Ok((0..n).map(|i| i * nparts / n.max(1)).collect());
     }

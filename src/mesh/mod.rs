@@ -87,20 +87,18 @@ impl Mesh {
         }
         let mut new_index = vec![usize::MAX; n];
         let mut next = 0;
-        for i in 0..n {
-            if used[i] {
-                new_index[i] = next;
+        for (ni, &u) in new_index.iter_mut().zip(&used) {
+            if u {
+                *ni = next;
                 next += 1;
             }
         }
         let d = self.dim;
         let mut coords = Vec::with_capacity(next * d);
         let mut tags = Vec::with_capacity(next);
-        for i in 0..n {
-            if used[i] {
-                coords.extend_from_slice(&self.coords[i * d..(i + 1) * d]);
-                tags.push(self.node_tags[i]);
-            }
+        for (i, _) in used.iter().enumerate().filter(|(_, &u)| u) {
+            coords.extend_from_slice(&self.coords[i * d..(i + 1) * d]);
+            tags.push(self.node_tags[i]);
         }
         self.coords = coords;
         self.node_tags = tags;

@@ -26,10 +26,16 @@ pub struct UbrResult {
     /// Last value of the (4.16) quotient, and of the constraint residual.
     pub criterion: f64,
     pub residual: f64,
-    /// Per owned candidate: normal displacement, multiplier lambda_n (the
-    /// pressure), auxiliary phi, and whether the last projection found contact.
+    /// Per owned candidate: normal displacement u_n^k; the contact pressure
+    /// `lambda_n = -sigma_n(u^k) = lambda^k + r (u_n^k - phi^{k-1})` of (4.7),
+    /// the normal stress in equilibrium with u^k, so that the contact force
+    /// balances the load to round-off at any iteration (it differs from the
+    /// multiplier `lambda^{k+1}` by `r (phi^k - phi^{k-1})`, which vanishes at
+    /// convergence); the multiplier itself; the auxiliary phi^k; and whether
+    /// the last projection found contact.
     pub un: Vec<f64>,
     pub lambda_n: Vec<f64>,
+    pub lambda_next: Vec<f64>,
     pub phi_n: Vec<f64>,
     pub in_contact: Vec<bool>,
     /// Tangential displacement per candidate, `dim` components each.
@@ -58,6 +64,7 @@ pub fn ubr_c<C: Communicator>(
     // Initialization: phi^{-1} = 0, lambda^0 = 0.
     let mut phi = vec![0.0; nc];
     let mut lambda = vec![0.0; nc];
+    let mut stress = vec![0.0; nc];
     let mut un = vec![0.0; nc];
     let mut in_contact = vec![false; nc];
     let u = problem.rhs0.duplicate()?;
@@ -112,6 +119,8 @@ pub fn ubr_c<C: Communicator>(
             for i in 0..nc {
                 let base = cs.node[i] * d;
                 let uni: f64 = (0..d).map(|c| uv[base + c] * n[c]).sum();
+                // -sigma_n(u^k) by (4.7): the contact stress in equilibrium with u^k.
+                stress[i] = lambda[i] + r * (uni - phi[i]);
                 let (phi_new, lambda_new, contact) =
                     project_normal(uni, lambda[i], cs.g[i], r, rho);
                 let w = cs.w[i];
@@ -168,7 +177,8 @@ pub fn ubr_c<C: Communicator>(
         criterion,
         residual,
         un,
-        lambda_n: lambda,
+        lambda_n: stress,
+        lambda_next: lambda,
         phi_n: phi,
         in_contact,
         ut,
