@@ -165,7 +165,6 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     drop(guard);
 
     // Output.
-    let t_out = Instant::now();
     let guard = stages.output.push()?;
     let d = local.dim;
     let cs = &problem.contact;
@@ -228,7 +227,6 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
             &times,
             &diag,
         );
-        let _ = t_out;
         if let Some(path) = &settings.contact_output {
             if let Err(e) =
                 report::write_atomic("-contact_output", path, report::csv(&all_rows).as_bytes())
