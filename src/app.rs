@@ -131,8 +131,11 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
         |mesh| {
             let t = Instant::now();
             let guard = stages.partition.push()?;
-            let part = distribute::partition_nodes(mesh, size)?;
-            let locals = distribute::split(mesh, &part, size);
+            let graph = distribute::NodeGraph::new(mesh);
+            let part = distribute::partition_nodes(&graph, size)?;
+            let order = distribute::locality_order(&graph, &part, size);
+            drop(graph);
+            let locals = distribute::split(mesh, &part, &order, size);
             drop(guard);
             time_partition = t.elapsed().as_secs_f64();
             Ok(locals)
