@@ -4,10 +4,10 @@
 use crate::contact::ContactSet;
 use crate::error::{bad, Error};
 use crate::mesh::{self, distribute, Mesh};
-use crate::options::{self, Friction, MeshSource, Settings};
+use crate::options::{self, Friction, MeshSource, Settings, TrescaBound};
 use crate::petsc::{self, LogEvent, LogStage};
 use crate::report::{self, ContactRow, Json};
-use crate::solver::{allreduce_count, allreduce_max, allreduce_sum, ubr, Problem};
+use crate::solver::{allreduce_count, allreduce_max, allreduce_sum, cf_fp, ubr, Problem};
 use mpi::traits::*;
 use std::time::Instant;
 
@@ -102,9 +102,6 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     let stages = Stages::register()?;
     let events = Events::register()?;
     let settings = Settings::from_options()?;
-    if settings.friction != Friction::None {
-        return bad("option -friction: only 'none' is available in this version (UBR-C)");
-    }
     if settings.algorithm != "ubr" {
         return bad("option -contact_algorithm: only 'ubr' is available in this version");
     }
@@ -152,9 +149,16 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
         ));
     }
     let n = cs.n.clone();
+    let d = local.dim;
+    let e_star = if d == 2 && settings.plane_stress {
+        settings.young
+    } else {
+        settings.young / (1.0 - settings.nu * settings.nu)
+    };
 
     // Assembly of K + r B^T W B, Dirichlet elimination, factorization (once).
-    let problem = Problem::setup(world, &local, &settings, cs, false, &stages)?;
+    let friction = settings.friction != Friction::None;
+    let problem = Problem::setup(world, &local, &settings, cs, friction, &stages)?;
     if problem.matrix_mallocs != 0.0 {
         return Err(Error::Internal(format!(
             "{} mallocs during matrix assembly: preallocation is wrong",
@@ -162,14 +166,15 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
         )));
     }
 
-    // Iterations: Algorithm UBR-C.
+    // Iterations: UBR-C, UBR-TF or CF-FP.
     let guard = stages.iterations.push()?;
-    let result = ubr::ubr_c(world, &problem, &settings.ubr, &events)?;
+    let t_iter = Instant::now();
+    let (state, solved) = solve(world, &local, &settings, &problem, &events, e_star)?;
+    let time_iterations = t_iter.elapsed().as_secs_f64();
     drop(guard);
 
     // Output.
     let guard = stages.output.push()?;
-    let d = local.dim;
     let cs = &problem.contact;
     let rows: Vec<ContactRow> = (0..cs.len())
         .map(|i| {
@@ -177,59 +182,75 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
             let mut x = [0.0; 3];
             x[..d].copy_from_slice(local.x(v));
             let mut ut = [0.0; 3];
-            ut[..d].copy_from_slice(&result.ut[i * d..(i + 1) * d]);
+            ut[..d].copy_from_slice(&state.ut[i * d..(i + 1) * d]);
+            let mut lt = [0.0; 3];
+            if friction {
+                lt[..d].copy_from_slice(&state.stress_t[i * d..(i + 1) * d]);
+            }
+            let status = match (state.in_contact[i], friction, state.slip[i]) {
+                (false, _, _) => 0,
+                (true, false, _) => 1,
+                (true, true, false) => 2,
+                (true, true, true) => 3,
+            };
             ContactRow {
                 node: local.node_tag[v],
                 x,
                 weight: cs.w[i],
                 gap: cs.g[i],
-                un: result.un[i],
+                un: state.un[i],
                 ut,
-                lambda_n: result.lambda_n[i],
-                lambda_t: [0.0; 3],
-                status: u8::from(result.in_contact[i]),
+                // + 0.0 turns -0 into 0 in the CSV
+                lambda_n: state.stress_n[i] + 0.0,
+                lambda_t: lt.map(|v| v + 0.0),
+                status,
             }
         })
         .collect();
-    let diag = diagnostics(world, &problem, &result)?;
+    let diag = diagnostics(world, &problem, &state, &solved.bound)?;
     let all_rows = report::gather_rows(world, &rows);
     let time_total = t_start.elapsed().as_secs_f64();
     let mut write_error: Option<Error> = None;
     if root {
-        let e_star = if d == 2 && !settings.plane_stress {
-            settings.young / (1.0 - settings.nu * settings.nu)
-        } else if d == 2 {
-            settings.young
-        } else {
-            settings.young / (1.0 - settings.nu * settings.nu)
-        };
         let hertz = settings
             .reference
             .as_ref()
             .map(|r| report::compare_hertz(&all_rows, d, &n, e_star, r));
         let contact_force: f64 = all_rows.iter().map(|r| r.weight * r.lambda_n).sum();
+        let mut tangential_force = vec![0.0; d];
+        for r in &all_rows {
+            for (c, t) in tangential_force.iter_mut().enumerate() {
+                *t += r.weight * r.lambda_t[c];
+            }
+        }
+        let count = |s: u8| all_rows.iter().filter(|r| r.status == s).count();
         let in_contact = all_rows.iter().filter(|r| r.status != 0).count();
+        let (nstick, nslip) = (count(2), count(3));
         let times = Times {
             mesh: time_mesh,
             partition: time_partition,
             assembly: problem.time_assembly,
             factorization: problem.time_factorization,
-            iterations: result.time_iterations,
+            iterations: time_iterations,
             total: time_total,
         };
-        print_summary(
-            &settings,
-            &local,
-            size,
+        print_summary(&Summary {
+            settings: &settings,
+            local: &local,
+            ranks: size,
             ncand,
-            &problem,
-            &result,
-            contact_force,
+            problem: &problem,
+            solved: &solved,
+            inner_total: state.inner_iterations.iter().sum(),
+            force: contact_force,
+            tangential_force: &tangential_force,
             in_contact,
-            hertz.as_ref(),
-            &times,
-            &diag,
-        );
+            stick: nstick,
+            slip: nslip,
+            hertz: hertz.as_ref(),
+            times: &times,
+            diag: &diag,
+        });
         if let Some(path) = &settings.contact_output {
             if let Err(e) =
                 report::write_atomic("-contact_output", path, report::csv(&all_rows).as_bytes())
@@ -244,9 +265,13 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                 .int("elements", local.global_cells)
                 .int("contact_nodes", ncand)
                 .int("contact_active", in_contact)
+                .int("stick_nodes", nstick)
+                .int("slip_nodes", nslip)
                 .int("ranks", size)
-                .string("algorithm", "ubr")
-                .string("friction", "none")
+                .string("algorithm", &settings.algorithm)
+                .string("paper_algorithm", solved.name)
+                .string("friction", friction_name(settings.friction))
+                .num("friction_coefficient", settings.friction_coefficient)
                 .string("mesh", &mesh_label(&settings.mesh))
                 .string("linear_solver", &problem.ksp_description)
                 .num("E", settings.young)
@@ -254,28 +279,31 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                 .num("r", settings.ubr.r)
                 .num("rho", settings.ubr.rho)
                 .num("rtol", settings.ubr.rtol)
-                .int("iterations", result.iterations)
-                .int("fixed_point_iterations", 0)
-                .boolean("converged", result.converged)
-                .num("criterion", result.criterion)
-                .num("constraint_residual", result.residual)
+                .num("residual_tol", settings.ubr.residual_tol)
+                .int("iterations", solved.iterations)
+                .int("fixed_point_iterations", solved.fixed_point_iterations)
+                .int("frictionless_iterations", solved.frictionless_iterations)
+                .boolean("converged", solved.converged)
+                .num("criterion", solved.last.criterion)
+                .num("constraint_residual", solved.last.residual)
+                .opt("fixed_point_change", solved.fp_change)
                 .num("contact_force", contact_force)
-                .array("tangential_force", &vec![0.0; d])
+                .array("tangential_force", &tangential_force)
                 .num("time_mesh", time_mesh)
                 .num("time_partition", time_partition)
                 .num("time_assembly", problem.time_assembly)
                 .num("time_factorization", problem.time_factorization)
-                .num("time_iterations", result.time_iterations)
+                .num("time_iterations", time_iterations)
                 .num("time_total", time_total)
                 .opt("pressure_error_l2", hertz.as_ref().map(|h| h.error_l2))
                 .opt("pressure_error_rel", hertz.as_ref().map(|h| h.error_rel))
-                .opt("peak_pressure", hertz.as_ref().map(|h| h.peak))
                 .opt("peak_pressure_hertz", hertz.as_ref().map(|h| h.peak_hertz))
-                .opt("contact_half_width", hertz.as_ref().map(|h| h.half_width))
-                .opt(
-                    "contact_half_width_hertz",
-                    hertz.as_ref().map(|h| h.half_width_hertz),
+                .opt("contact_half_width_hertz", hertz.as_ref().map(|h| h.half_width_hertz))
+                .num(
+                    "peak_pressure",
+                    all_rows.iter().map(|r| r.lambda_n).fold(0.0, f64::max),
                 )
+                .num("contact_half_width", hertz.as_ref().map(|h| h.half_width).unwrap_or(f64::NAN))
                 .num("equilibrium_residual", diag.equilibrium_abs)
                 .num("equilibrium_residual_rel", diag.equilibrium_rel)
                 .num("load_norm", diag.load_norm)
@@ -283,8 +311,9 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                 .num("max_penetration", diag.max_penetration)
                 .num("max_abs_gap", diag.max_abs_gap)
                 .num("complementarity", diag.complementarity)
+                .num("max_friction_excess", diag.max_friction_excess)
                 .num("matrix_mallocs", problem.matrix_mallocs)
-                .int_array("inner_iterations", &result.inner_iterations);
+                .int_array("inner_iterations", &state.inner_iterations);
             if let Err(e) = report::write_atomic("-report", path, j.render().as_bytes()) {
                 write_error = write_error.or(Some(e));
             }
@@ -294,16 +323,221 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     // Make a write failure on rank 0 collective.
     let failed = allreduce_max(world, if write_error.is_some() { 1.0 } else { 0.0 });
     if failed > 0.0 {
-        return Err(write_error
-            .unwrap_or_else(|| Error::BadInput("writing an output file failed on rank 0".into())));
+        return Err(write_error.unwrap_or_else(|| {
+            Error::BadInput("writing an output file failed on rank 0".into())
+        }));
     }
-    if !result.converged {
-        return Err(Error::NotConverged(format!(
-            "UBR-C stopped after {} iterations (-ubr_max_it): relative change {:.3e} (target {:.1e}), constraint residual {:.3e} (target {:.1e})",
-            result.iterations, result.criterion, settings.ubr.rtol, result.residual, settings.ubr.residual_tol
-        )));
+    if !solved.converged {
+        return Err(Error::NotConverged(solved.failure(&settings)));
     }
     Ok(())
+}
+
+fn friction_name(f: Friction) -> &'static str {
+    match f {
+        Friction::None => "none",
+        Friction::Tresca => "tresca",
+        Friction::Coulomb => "coulomb",
+    }
+}
+
+/// What the iterations produced, whichever algorithm ran.
+pub struct Solved {
+    pub name: &'static str,
+    pub iterations: usize,
+    pub fixed_point_iterations: usize,
+    /// UBR iterations of the frictionless solve behind `-tresca_bound frictionless`.
+    pub frictionless_iterations: usize,
+    pub converged: bool,
+    pub last: ubr::UbrOutcome,
+    pub fp_change: Option<f64>,
+    /// The friction bound s per owned candidate (empty without friction).
+    pub bound: Vec<f64>,
+}
+
+impl Solved {
+    fn failure(&self, s: &Settings) -> String {
+        if self.fixed_point_iterations > 0 && self.last.converged {
+            format!(
+                "CF-FP stopped after {} fixed-point iterations (-ubr_fp_max_it): relative change of s {:.3e} (target {:.1e})",
+                self.fixed_point_iterations,
+                self.fp_change.unwrap_or(f64::NAN),
+                s.ubr.fp_rtol
+            )
+        } else {
+            format!(
+                "{} stopped after {} iterations (-ubr_max_it): relative change {:.3e} (target {:.1e}), constraint residual {:.3e} (target {:.1e})",
+                self.name,
+                self.iterations,
+                self.last.criterion,
+                s.ubr.rtol,
+                self.last.residual,
+                s.ubr.residual_tol
+            )
+        }
+    }
+}
+
+/// The Tresca bound from `-tresca_bound hertz`: nu_f times the Hertz pressure
+/// at each owned candidate, centred as the reference says (default: the
+/// candidate with the smallest gap over all ranks).
+fn hertz_bound<C: Communicator>(
+    world: &C,
+    local: &distribute::LocalMesh,
+    cs: &ContactSet,
+    reference: &options::HertzReference,
+    nu_f: f64,
+    e_star: f64,
+) -> Vec<f64> {
+    let d = local.dim;
+    let center = match &reference.center {
+        Some(c) => c.clone(),
+        None => {
+            // (gap, x, y, z) of the local minimum, gathered everywhere.
+            let mut mine: [f64; 4] = [f64::INFINITY, 0.0, 0.0, 0.0];
+            for i in 0..cs.len() {
+                if cs.g[i] < mine[0] {
+                    mine[0] = cs.g[i];
+                    mine[1..1 + d].copy_from_slice(local.x(cs.node[i]));
+                }
+            }
+            let mut all = vec![0.0f64; 4 * world.size() as usize];
+            world.all_gather_into(&mine[..], &mut all[..]);
+            let best = all
+                .chunks(4)
+                .min_by(|a, b| a[0].total_cmp(&b[0]))
+                .map(|c| c[1..1 + d].to_vec())
+                .unwrap_or(vec![0.0; d]);
+            best
+        }
+    };
+    (0..cs.len())
+        .map(|i| {
+            let x = local.x(cs.node[i]);
+            let dx: Vec<f64> = (0..d).map(|k| x[k] - center[k]).collect();
+            let dn: f64 = dx.iter().zip(&cs.n).map(|(a, b)| a * b).sum();
+            let dist = dx
+                .iter()
+                .zip(&cs.n)
+                .map(|(a, b)| (a - dn * b).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            nu_f * report::hertz_pressure(d, reference.force, reference.radius, e_star, dist).0
+        })
+        .collect()
+}
+
+/// Runs the algorithm the options ask for.
+fn solve<C: Communicator>(
+    world: &C,
+    local: &distribute::LocalMesh,
+    settings: &Settings,
+    problem: &Problem,
+    events: &Events,
+    e_star: f64,
+) -> Result<(ubr::UbrState, Solved), Error> {
+    let u = &settings.ubr;
+    let ctl = ubr::UbrControl {
+        r: u.r,
+        rho: u.rho,
+        rtol: u.rtol,
+        residual_tol: u.residual_tol,
+        max_it: u.max_it,
+        monitor: u.monitor,
+    };
+    let nc = problem.contact.len();
+    let nu_f = settings.friction_coefficient;
+    let mut state = ubr::UbrState::new(problem)?;
+    let mut solved = Solved {
+        name: "UBR-C",
+        iterations: 0,
+        fixed_point_iterations: 0,
+        frictionless_iterations: 0,
+        converged: false,
+        last: ubr::UbrOutcome::default(),
+        fp_change: None,
+        bound: Vec::new(),
+    };
+    // The bound s^0 from -tresca_bound (None: frictionless solve first, or zero for CF-FP).
+    let explicit_bound = |state: &mut ubr::UbrState, solved: &mut Solved| -> Result<Option<Vec<f64>>, Error> {
+        Ok(match settings.tresca_bound {
+            Some(TrescaBound::Value(v)) => Some(vec![v; nc]),
+            Some(TrescaBound::Hertz) => Some(hertz_bound(
+                world,
+                local,
+                &problem.contact,
+                settings.reference.as_ref().expect("checked with the options"),
+                nu_f,
+                e_star,
+            )),
+            Some(TrescaBound::Frictionless) => {
+                // A frictionless solve with the same matrix: UBR-TF with s = 0.
+                let zero = vec![0.0; nc];
+                let run = ubr::ubr(world, problem, state, Some(&zero), &ctl, events)?;
+                solved.frictionless_iterations = run.iterations;
+                if !run.converged {
+                    return Err(Error::NotConverged(format!(
+                        "the frictionless solve behind -tresca_bound frictionless stopped after {} iterations",
+                        run.iterations
+                    )));
+                }
+                let s = state.stress_n.iter().map(|l| nu_f * l.abs()).collect();
+                state.reset()?;
+                Some(s)
+            }
+            None => None,
+        })
+    };
+    match settings.friction {
+        Friction::None => {
+            let run = ubr::ubr(world, problem, &mut state, None, &ctl, events)?;
+            solved.iterations = run.iterations;
+            solved.converged = run.converged;
+            solved.last = run;
+        }
+        Friction::Tresca => {
+            solved.name = "UBR-TF";
+            let s = match explicit_bound(&mut state, &mut solved)? {
+                Some(s) => s,
+                None => {
+                    // Default: as the paper's 3D setting, nu_f x lambda_c of a frictionless solve.
+                    let zero = vec![0.0; nc];
+                    let run = ubr::ubr(world, problem, &mut state, Some(&zero), &ctl, events)?;
+                    solved.frictionless_iterations = run.iterations;
+                    let s = state.stress_n.iter().map(|l| nu_f * l.abs()).collect();
+                    state.reset()?;
+                    s
+                }
+            };
+            let run = ubr::ubr(world, problem, &mut state, Some(&s), &ctl, events)?;
+            solved.iterations = run.iterations;
+            solved.converged = run.converged;
+            solved.last = run;
+            solved.bound = s;
+        }
+        Friction::Coulomb => {
+            solved.name = "CF-FP";
+            let s0 = explicit_bound(&mut state, &mut solved)?.unwrap_or_else(|| vec![0.0; nc]);
+            let fp = cf_fp::cf_fp(
+                world,
+                problem,
+                &mut state,
+                nu_f,
+                s0,
+                &ctl,
+                u.fp_rtol,
+                u.fp_max_it,
+                events,
+            )?;
+            solved.iterations = fp.inner_iterations;
+            solved.fixed_point_iterations = fp.fixed_point_iterations;
+            solved.converged = fp.converged;
+            solved.last = fp.last;
+            solved.fp_change = Some(fp.fp_change);
+            solved.bound = fp.bound;
+        }
+    }
+    Ok((state, solved))
 }
 
 struct Times {
@@ -327,17 +561,20 @@ pub struct Diagnostics {
     pub max_abs_gap: f64,
     /// `sum w lambda_n (g - u_n)`.
     pub complementarity: f64,
+    /// `max (|lambda_t| - s)` over the candidates (0 without friction).
+    pub max_friction_excess: f64,
 }
 
 fn diagnostics<C: Communicator>(
     world: &C,
     p: &Problem,
-    res: &ubr::UbrResult,
+    st: &ubr::UbrState,
+    bound: &[f64],
 ) -> Result<Diagnostics, Error> {
     let d = p.dim;
     let cs = &p.contact;
     let au = p.rhs0.duplicate()?;
-    p.matrix.mult(&res.solution, &au)?;
+    p.matrix.mult(&st.u, &au)?;
     let (eq2, f2) = au.write(|a| {
         p.rhs0.read(|b| {
             p.load.read(|f| {
@@ -346,15 +583,18 @@ fn diagnostics<C: Communicator>(
                 }
                 for i in 0..cs.len() {
                     let base = cs.node[i] * d;
+                    let w = cs.w[i];
                     for c in 0..d {
                         // remove r B^T W B u, add B^T W lambda
-                        let w = cs.w[i];
-                        let bu = if p.tangential {
-                            res.un[i] * cs.n[c] + res.ut[i * d + c]
+                        let (bu, lam) = if p.tangential {
+                            (
+                                st.un[i] * cs.n[c] + st.ut[i * d + c],
+                                st.stress_n[i] * cs.n[c] + st.stress_t[i * d + c],
+                            )
                         } else {
-                            res.un[i] * cs.n[c]
+                            (st.un[i] * cs.n[c], st.stress_n[i] * cs.n[c])
                         };
-                        a[base + c] += w * (res.lambda_n[i] * cs.n[c] - p.r * bu);
+                        a[base + c] += w * (lam - p.r * bu);
                     }
                 }
                 let mut eq2 = 0.0;
@@ -373,16 +613,30 @@ fn diagnostics<C: Communicator>(
     let mut max_pen = f64::NEG_INFINITY;
     let mut max_gap = 0.0f64;
     let mut compl = 0.0;
+    let mut excess = f64::NEG_INFINITY;
     for i in 0..cs.len() {
-        min_lambda = min_lambda.min(res.lambda_n[i]);
-        max_pen = max_pen.max(res.un[i] - cs.g[i]);
+        min_lambda = min_lambda.min(st.stress_n[i]);
+        max_pen = max_pen.max(st.un[i] - cs.g[i]);
         max_gap = max_gap.max(cs.g[i].abs());
-        compl += cs.w[i] * res.lambda_n[i] * (cs.g[i] - res.un[i]);
+        compl += cs.w[i] * st.stress_n[i] * (cs.g[i] - st.un[i]);
+        if !bound.is_empty() {
+            let lt = st.stress_t[i * d..(i + 1) * d]
+                .iter()
+                .map(|v| v * v)
+                .sum::<f64>()
+                .sqrt();
+            excess = excess.max(lt - bound[i]);
+        }
     }
     let [eq2, f2, compl] = allreduce_sum(world, [eq2, f2, compl]);
     let min_lambda = -allreduce_max(world, -min_lambda);
     let max_penetration = allreduce_max(world, max_pen);
     let max_abs_gap = allreduce_max(world, max_gap);
+    let max_friction_excess = if p.tangential {
+        allreduce_max(world, excess)
+    } else {
+        0.0
+    };
     Ok(Diagnostics {
         equilibrium_abs: eq2.sqrt(),
         equilibrium_rel: if f2 > 0.0 {
@@ -395,36 +649,54 @@ fn diagnostics<C: Communicator>(
         max_penetration,
         max_abs_gap,
         complementarity: compl,
+        max_friction_excess,
     })
 }
 
-#[allow(clippy::too_many_arguments)]
-fn print_summary(
-    s: &Settings,
-    local: &distribute::LocalMesh,
+struct Summary<'a> {
+    settings: &'a Settings,
+    local: &'a distribute::LocalMesh,
     ranks: usize,
     ncand: usize,
-    p: &Problem,
-    res: &ubr::UbrResult,
+    problem: &'a Problem,
+    solved: &'a Solved,
+    inner_total: usize,
     force: f64,
+    tangential_force: &'a [f64],
     in_contact: usize,
-    hertz: Option<&report::HertzComparison>,
-    t: &Times,
-    diag: &Diagnostics,
-) {
+    stick: usize,
+    slip: usize,
+    hertz: Option<&'a report::HertzComparison>,
+    times: &'a Times,
+    diag: &'a Diagnostics,
+}
+
+fn print_summary(m: &Summary) {
+    let s = m.settings;
+    let local = m.local;
+    let res = m.solved;
+    let t = m.times;
+    let diag = m.diag;
     let cells = if local.dim == 2 {
         "triangles"
     } else {
         "tetrahedra"
     };
+    let what = match s.friction {
+        Friction::None => "frictionless",
+        Friction::Tresca => "Tresca friction",
+        Friction::Coulomb => "Coulomb friction",
+    };
     println!(
-        "ubr-petsc: Algorithm UBR-C (frictionless), {ranks} rank{}",
-        if ranks == 1 { "" } else { "s" }
+        "ubr-petsc: Algorithm {} ({what}), {} rank{}",
+        res.name,
+        m.ranks,
+        if m.ranks == 1 { "" } else { "s" }
     );
     println!("  mesh            {}", mesh_label(&s.mesh));
     println!(
         "                  {} nodes, {} {cells}, {} contact candidates",
-        local.global_nodes, local.global_cells, ncand
+        local.global_nodes, local.global_cells, m.ncand
     );
     println!(
         "  material        E = {}, nu = {}, {}",
@@ -438,32 +710,74 @@ fn print_summary(
             "plane strain"
         }
     );
-    println!("  linear solver   {}", p.ksp_description);
+    if s.friction != Friction::None {
+        println!("  friction        nu_f = {}", s.friction_coefficient);
+    }
+    println!("  linear solver   {}", m.problem.ksp_description);
     println!(
         "  r               {} (rho = {}, r/E = {})",
         s.ubr.r,
         s.ubr.rho,
         s.ubr.r / s.young
     );
+    if res.frictionless_iterations > 0 {
+        println!(
+            "  frictionless    {} UBR iterations for the bound s = nu_f lambda_c",
+            res.frictionless_iterations
+        );
+    }
+    if res.fixed_point_iterations > 0 {
+        println!(
+            "  fixed point     {} iterations, {} Tresca iterations in total, {} (change of s {:.3e}, target {:.1e})",
+            res.fixed_point_iterations,
+            res.iterations,
+            if res.converged { "converged" } else { "NOT converged" },
+            res.fp_change.unwrap_or(f64::NAN),
+            s.ubr.fp_rtol
+        );
+    }
     println!(
-        "  iterations      {}, {} (rel. change {:.3e}, target {:.1e}; residual {:.3e}, target {:.1e})",
+        "  iterations      {}, {} (last run: rel. change {:.3e}, target {:.1e}; residual {:.3e}, target {:.1e})",
         res.iterations,
         if res.converged { "converged" } else { "NOT converged" },
-        res.criterion,
+        res.last.criterion,
         s.ubr.rtol,
-        res.residual,
+        res.last.residual,
         s.ubr.residual_tol
     );
-    if p.iterative {
-        let total: usize = res.inner_iterations.iter().sum();
-        println!("  inner its       {total} in total");
+    if m.problem.iterative {
+        println!("  inner its       {} in total", m.inner_total);
     }
-    println!("  contact         {in_contact} nodes in contact, total contact force {force:.10e}");
+    if s.friction != Friction::None {
+        println!(
+            "  contact         {} nodes in contact ({} stick, {} slip), total contact force {:.10e}",
+            m.in_contact, m.stick, m.slip, m.force
+        );
+        println!(
+            "                  tangential force ({})",
+            m.tangential_force
+                .iter()
+                .map(|v| format!("{v:.6e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    } else {
+        println!(
+            "  contact         {} nodes in contact, total contact force {:.10e}",
+            m.in_contact, m.force
+        );
+    }
     println!(
         "  optimality      equilibrium {:.2e} (rel.), min lambda_n {:.3e}, max u_n - g {:.3e}, complementarity {:.3e}",
         diag.equilibrium_rel, diag.min_lambda, diag.max_penetration, diag.complementarity
     );
-    if let Some(h) = hertz {
+    if s.friction != Friction::None {
+        println!(
+            "                  max (|lambda_t| - s) {:.3e}",
+            diag.max_friction_excess
+        );
+    }
+    if let Some(h) = m.hertz {
         println!(
             "  hertz           pressure error L2 {:.4e}, relative {:.3}%",
             h.error_l2,

@@ -22,8 +22,8 @@ pub const HELP: &[(&str, &str, &str)] = &[
     ("-obstacle_center x,y[,z]", "required for ball", "centre of the obstacle ball (circle in 2D)"),
     ("-obstacle_radius R", "required for ball", "radius of the obstacle ball"),
     ("-friction none|tresca|coulomb", "none", "friction law"),
-    ("-friction_coefficient NU_F", "0", "Coulomb/Tresca friction coefficient"),
-    ("-tresca_bound VALUE|hertz|frictionless", "frictionless", "Tresca friction bound s"),
+    ("-friction_coefficient NU_F", "required with friction", "Coulomb friction coefficient nu_f (also scales -tresca_bound hertz|frictionless)"),
+    ("-tresca_bound VALUE|hertz|frictionless", "frictionless (tresca), 0 (coulomb)", "Tresca bound s: a constant, nu_f x Hertz pressure, or nu_f x lambda_c of a frictionless solve; with coulomb, the starting s^0"),
     ("-contact_algorithm ubr|ssn", "ubr", "UBR (the paper's algorithms) or the SSN-C comparator"),
     ("-ubr_r R", "E", "augmentation parameter r of the augmented Lagrangian (3.7)"),
     ("-ubr_rho RHO", "r", "multiplier step rho in (4.4); convergence needs 0 < rho < r(1+sqrt 5)/2"),
@@ -73,6 +73,17 @@ pub enum Friction {
     None,
     Tresca,
     Coulomb,
+}
+
+/// Where the Tresca bound s comes from (`-tresca_bound`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TrescaBound {
+    /// s = VALUE at every candidate.
+    Value(f64),
+    /// s = nu_f times the Hertz pressure (needs -reference hertz).
+    Hertz,
+    /// s = nu_f times lambda_c of a frictionless solve run first.
+    Frictionless,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -131,6 +142,8 @@ pub struct Settings {
     pub traction: Vec<TractionBc>,
     pub contact: Option<ContactSettings>,
     pub friction: Friction,
+    pub friction_coefficient: f64,
+    pub tresca_bound: Option<TrescaBound>,
     pub algorithm: String,
     pub ubr: UbrSettings,
     pub reference: Option<HertzReference>,
@@ -419,9 +432,38 @@ impl Settings {
         };
         let report = get_word("-report")?;
         let contact_output = get_word("-contact_output")?;
-        // Options of later issues, read here so -options_left does not flag them.
-        let _ = get_f64("-friction_coefficient")?;
-        let _ = get("-tresca_bound")?;
+        let friction_coefficient = get_f64("-friction_coefficient")?.unwrap_or(0.0);
+        if friction_coefficient < 0.0 {
+            return bad(format!(
+                "option -friction_coefficient: {friction_coefficient} is negative"
+            ));
+        }
+        let tresca_bound = match get_word("-tresca_bound")?.as_deref() {
+            None => None,
+            Some("hertz") => Some(TrescaBound::Hertz),
+            Some("frictionless") => Some(TrescaBound::Frictionless),
+            Some(v) => match v.parse::<f64>() {
+                Ok(x) if x.is_finite() && x >= 0.0 => Some(TrescaBound::Value(x)),
+                _ => {
+                    return bad(format!(
+                        "option -tresca_bound: '{v}' is not a non-negative number, hertz or frictionless"
+                    ))
+                }
+            },
+        };
+        if tresca_bound == Some(TrescaBound::Hertz) && reference.is_none() {
+            return bad("option -tresca_bound hertz needs the Hertz reference (-reference hertz -reference_force F -reference_radius R)");
+        }
+        if friction != Friction::None
+            && get_f64("-friction_coefficient")?.is_none()
+            && !matches!(tresca_bound, Some(TrescaBound::Value(_)))
+        {
+            return bad(format!(
+                "option -friction_coefficient is required with -friction {}",
+                if friction == Friction::Tresca { "tresca" } else { "coulomb" }
+            ));
+        }
+        // Read here so -options_left does not flag it; the SSN-C comparator is not built yet.
         let _ = get_f64("-ssn_r")?;
 
         Ok(Settings {
@@ -433,6 +475,8 @@ impl Settings {
             traction,
             contact,
             friction,
+            friction_coefficient,
+            tresca_bound,
             algorithm,
             ubr,
             reference,

@@ -148,6 +148,41 @@ pub fn project_normal(un: f64, lambda: f64, g: f64, r: f64, rho: f64) -> (f64, f
     (phi, lambda_next, gamma > 0.0)
 }
 
+/// The friction projection (5.5) with the multiplier update at one node, for
+/// tangential displacement `ut`, multiplier `lambda` (both `dim` components,
+/// tangent to n) and bound `s`: writes `phi` and `lambda_next`; returns
+/// whether the node slips (the first branch of (5.5), `|lambda + r ut| > s`).
+#[inline]
+pub fn project_tangential(
+    ut: &[f64],
+    lambda: &[f64],
+    s: f64,
+    r: f64,
+    rho: f64,
+    phi: &mut [f64],
+    lambda_next: &mut [f64],
+) -> bool {
+    let d = ut.len();
+    let mut q = [0.0; 3];
+    for c in 0..d {
+        q[c] = lambda[c] + r * ut[c];
+    }
+    let norm = q[..d].iter().map(|v| v * v).sum::<f64>().sqrt();
+    let slip = norm > s;
+    // lambda + rho (ut - phi) = lambda + (rho / r)(target - lambda), with
+    // target = q s/|q| (slip) or q (stick): |lambda_next| <= s when rho = r.
+    let (phi_factor, target_factor) = if slip {
+        ((norm - s) / (r * norm), s / norm)
+    } else {
+        (0.0, 1.0)
+    };
+    for c in 0..d {
+        phi[c] = phi_factor * q[c];
+        lambda_next[c] = lambda[c] + (rho / r) * (target_factor * q[c] - lambda[c]);
+    }
+    slip
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -180,6 +215,36 @@ mod tests {
         assert!((phi - 0.2).abs() < 1e-9);
         let (phi, _, c) = project_normal(0.1, 0.0, 0.2, 1e12, 1e12);
         assert!((phi - 0.1).abs() < 1e-9 && !c);
+    }
+
+    #[test]
+    fn friction_projection_bounds_and_limits() {
+        let r = 2.0;
+        let mut phi = [0.0; 2];
+        let mut lam = [0.0; 2];
+        // Slip: |lambda+| = s, phi along q.
+        let slip = project_tangential(&[1.0, 0.5], &[0.3, -0.1], 0.7, r, r, &mut phi, &mut lam);
+        assert!(slip);
+        let nl = (lam[0] * lam[0] + lam[1] * lam[1]).sqrt();
+        assert!((nl - 0.7).abs() < 1e-14);
+        let q = [0.3 + 2.0, -0.1 + 1.0];
+        assert!((phi[0] * q[1] - phi[1] * q[0]).abs() < 1e-14 && phi[0] * q[0] > 0.0);
+        // Stick: phi = 0, lambda+ = lambda + r ut.
+        let slip = project_tangential(&[0.01, 0.0], &[0.1, 0.0], 5.0, r, r, &mut phi, &mut lam);
+        assert!(!slip && phi == [0.0, 0.0] && (lam[0] - 0.12).abs() < 1e-15);
+        // s = 0: frictionless, lambda+ = 0, phi = ut + lambda/r.
+        project_tangential(&[0.4, -0.2], &[0.2, 0.0], 0.0, r, r, &mut phi, &mut lam);
+        assert!(lam.iter().all(|v| v.abs() < 1e-15));
+        assert!((phi[0] - 0.5).abs() < 1e-15 && (phi[1] + 0.2).abs() < 1e-15);
+        // Idempotence: projecting the fixed point again changes nothing.
+        let (ut, l0) = ([0.3, 0.4], [0.6, 0.0]);
+        let mut p1 = [0.0; 2];
+        let mut l1 = [0.0; 2];
+        project_tangential(&ut, &l0, 0.5, r, r, &mut p1, &mut l1);
+        let mut p2 = [0.0; 2];
+        let mut l2 = [0.0; 2];
+        project_tangential(&p1, &l1, 0.5, r, r, &mut p2, &mut l2);
+        assert!((p2[0] - p1[0]).abs() < 1e-14 && (l2[1] - l1[1]).abs() < 1e-14);
     }
 
     #[test]

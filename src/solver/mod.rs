@@ -5,6 +5,7 @@
 //! columns eliminated symmetrically), the lifted load vector, and the KSP,
 //! whose factorization (`KSPSetUp`) happens once, in the Factorization stage.
 
+pub mod cf_fp;
 pub mod ubr;
 
 use crate::contact::ContactSet;

@@ -1,97 +1,180 @@
-//! Algorithm UBR-C (Koko 2010, section 4.3): Uzawa block relaxation for
-//! frictionless unilateral contact.
+//! Algorithms UBR-C (Koko 2010, section 4.3) and UBR-TF (section 5): Uzawa
+//! block relaxation for frictionless contact and for Tresca friction.
 //!
 //! Initialization: `phi^{-1} = 0`, `lambda^0 = 0`. Iteration k >= 0:
-//! 1. solve (4.5): `(K + r B^T W B) u^k = f + B^T W (r phi^{k-1} - lambda^k)`
-//!    with the matrix factorized once;
-//! 2. project (4.15): `phi^k = u_n^k + [lambda^k - (lambda^k + r(u_n^k - g))^+] / r`;
-//! 3. update (4.4): `lambda^{k+1} = lambda^k + rho (u_n^k - phi^k)`;
+//! 1. solve (4.5) / (5.3): `(K + r B^T W B) u^k = f + B^T W (r phi^{k-1} - lambda^k)`
+//!    with the matrix factorized once (B = B_n, or (B_n, B_t) with friction);
+//! 2. project: (4.15) `phi_c^k = u_n^k + [lambda_c^k - (lambda_c^k + r(u_n^k - g))^+] / r`,
+//!    and with friction (5.5) `phi_f^k = (|q| - s)/(r|q|) q` if `|q| > s`, else 0,
+//!    where `q = lambda_f^k + r u_t^k`;
+//! 3. update (4.4): `lambda^{k+1} = lambda^k + rho (B u^k - phi^k)`;
 //!
-//! until the relative change (4.16) is below eps_c and, as in section 7, the
-//! constraint residual `||B u^k - phi^k||_{0,Gamma_c}` is below its tolerance.
-//! Norms: lumped mass on Omega, nodal weights w_i on Gamma_c. Every stopping
-//! decision is taken on globally reduced sums, so all ranks agree.
+//! until the relative change (4.16) / (5.6) is below eps and, as in section 7,
+//! the constraint residual `||B u^k - phi^k||_{0,Gamma_c}` is below its
+//! tolerance. Norms: lumped mass on Omega, nodal weights w_i on Gamma_c. Every
+//! stopping decision is taken on globally reduced sums, so all ranks agree.
+//!
+//! The reported contact stresses are `-sigma(u^k)` on Gamma_c from (4.7):
+//! `lambda^k + r (B u^k - phi^{k-1})`, the stresses in equilibrium with the
+//! returned displacement, so that the contact force balances the load to
+//! round-off at any iteration; they differ from `lambda^{k+1}` by
+//! `r (phi^k - phi^{k-1})`, which vanishes at convergence.
 
 use super::{allreduce_sum, Problem};
-use crate::contact::project_normal;
+use crate::contact::{project_normal, project_tangential};
 use crate::error::Error;
-use crate::options::UbrSettings;
 use crate::petsc::Vector;
 use mpi::traits::*;
 
-/// The state and outcome of a UBR run.
-pub struct UbrResult {
-    pub iterations: usize,
-    pub converged: bool,
-    /// Last value of the (4.16) quotient, and of the constraint residual.
-    pub criterion: f64,
-    pub residual: f64,
-    /// Per owned candidate: normal displacement u_n^k; the contact pressure
-    /// `lambda_n = -sigma_n(u^k) = lambda^k + r (u_n^k - phi^{k-1})` of (4.7),
-    /// the normal stress in equilibrium with u^k, so that the contact force
-    /// balances the load to round-off at any iteration (it differs from the
-    /// multiplier `lambda^{k+1}` by `r (phi^k - phi^{k-1})`, which vanishes at
-    /// convergence); the multiplier itself; the auxiliary phi^k; and whether
-    /// the last projection found contact.
-    pub un: Vec<f64>,
-    pub lambda_n: Vec<f64>,
-    pub lambda_next: Vec<f64>,
+/// The iterate of a UBR run, kept between runs for warm starts (CF-FP).
+pub struct UbrState {
+    pub dim: usize,
+    /// Auxiliary variables phi^k: normal per candidate, tangential `dim` per candidate.
     pub phi_n: Vec<f64>,
-    pub in_contact: Vec<bool>,
-    /// Tangential displacement per candidate, `dim` components each.
+    pub phi_t: Vec<f64>,
+    /// Multipliers lambda^{k+1} (the algorithm's).
+    pub lambda_n: Vec<f64>,
+    pub lambda_t: Vec<f64>,
+    /// Contact stresses -sigma(u^k) of (4.7) (what is reported).
+    pub stress_n: Vec<f64>,
+    pub stress_t: Vec<f64>,
+    /// u_n^k and u_t^k at the candidates.
+    pub un: Vec<f64>,
     pub ut: Vec<f64>,
-    pub solution: Vector,
-    pub time_iterations: f64,
-    /// Inner (KSP) iterations of each outer iteration.
+    /// Status from the last projection.
+    pub in_contact: Vec<bool>,
+    pub slip: Vec<bool>,
+    pub u: Vector,
+    u_prev: Vec<f64>,
+    rhs: Vector,
+    /// Inner (KSP) iterations of every outer iteration so far.
     pub inner_iterations: Vec<usize>,
 }
 
-/// Runs UBR-C on `problem`.
-pub fn ubr_c<C: Communicator>(
+impl UbrState {
+    /// The paper's initialization: phi^{-1} = 0, lambda^0 = 0, u = 0.
+    pub fn new(problem: &Problem) -> Result<UbrState, Error> {
+        let d = problem.dim;
+        let nc = problem.contact.len();
+        let u = problem.rhs0.duplicate()?;
+        u.set(0.0)?;
+        Ok(UbrState {
+            dim: d,
+            phi_n: vec![0.0; nc],
+            phi_t: vec![0.0; nc * d],
+            lambda_n: vec![0.0; nc],
+            lambda_t: vec![0.0; nc * d],
+            stress_n: vec![0.0; nc],
+            stress_t: vec![0.0; nc * d],
+            un: vec![0.0; nc],
+            ut: vec![0.0; nc * d],
+            in_contact: vec![false; nc],
+            slip: vec![false; nc],
+            rhs: problem.rhs0.duplicate()?,
+            u,
+            u_prev: vec![0.0; problem.is_dirichlet.len()],
+            inner_iterations: Vec::new(),
+        })
+    }
+
+    /// Back to the paper's initialization (a cold start).
+    pub fn reset(&mut self) -> Result<(), Error> {
+        for v in [
+            &mut self.phi_n,
+            &mut self.phi_t,
+            &mut self.lambda_n,
+            &mut self.lambda_t,
+            &mut self.stress_n,
+            &mut self.stress_t,
+            &mut self.un,
+            &mut self.ut,
+            &mut self.u_prev,
+        ] {
+            v.iter_mut().for_each(|x| *x = 0.0);
+        }
+        self.u.set(0.0)
+    }
+}
+
+/// Tolerances and caps of one UBR run.
+#[derive(Clone, Copy, Debug)]
+pub struct UbrControl {
+    pub r: f64,
+    pub rho: f64,
+    pub rtol: f64,
+    pub residual_tol: f64,
+    pub max_it: usize,
+    pub monitor: bool,
+}
+
+/// What one UBR run did.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct UbrOutcome {
+    pub iterations: usize,
+    pub converged: bool,
+    /// Last value of the (4.16)/(5.6) quotient, and of the constraint residual.
+    pub criterion: f64,
+    pub residual: f64,
+    /// Global counts from the last projection.
+    pub contact: usize,
+    pub stick: usize,
+    pub slip: usize,
+}
+
+/// Runs UBR-C (`friction_bound` = None, the problem assembled without the
+/// tangential term) or UBR-TF (`Some(s)`, one bound per candidate) from `state`.
+pub fn ubr<C: Communicator>(
     world: &C,
     problem: &Problem,
-    settings: &UbrSettings,
+    state: &mut UbrState,
+    friction_bound: Option<&[f64]>,
+    ctl: &UbrControl,
     events: &crate::Events,
-) -> Result<UbrResult, Error> {
-    let t0 = std::time::Instant::now();
+) -> Result<UbrOutcome, Error> {
     let d = problem.dim;
     let cs = &problem.contact;
     let nc = cs.len();
-    let (r, rho) = (settings.r, settings.rho);
+    let (r, rho) = (ctl.r, ctl.rho);
     let n = &cs.n;
     let root = world.rank() == 0;
-
-    // Initialization: phi^{-1} = 0, lambda^0 = 0.
-    let mut phi = vec![0.0; nc];
-    let mut lambda = vec![0.0; nc];
-    let mut stress = vec![0.0; nc];
-    let mut un = vec![0.0; nc];
-    let mut in_contact = vec![false; nc];
-    let u = problem.rhs0.duplicate()?;
-    u.set(0.0)?;
-    let rhs = problem.rhs0.duplicate()?;
-    let nloc = problem.is_dirichlet.len();
-    let mut u_prev = vec![0.0; nloc];
-    let mut inner = Vec::new();
-    let mut converged = false;
-    let mut criterion = f64::INFINITY;
-    let mut residual = f64::INFINITY;
-    let mut k = 0;
-    if root && settings.monitor {
-        println!("  UBR-C   it   rel. change (4.16)   ||Bu - phi||      contact nodes");
+    let name = if friction_bound.is_some() {
+        "UBR-TF"
+    } else {
+        "UBR-C"
+    };
+    assert_eq!(friction_bound.is_some(), problem.tangential);
+    let mut out = UbrOutcome {
+        criterion: f64::INFINITY,
+        residual: f64::INFINITY,
+        ..Default::default()
+    };
+    if root && ctl.monitor {
+        if friction_bound.is_some() {
+            println!("  {name}   it   rel. change (5.6)   ||Bu - phi||      contact  stick   slip");
+        } else {
+            println!("  {name}   it   rel. change (4.16)  ||Bu - phi||      contact");
+        }
     }
-    while k < settings.max_it {
-        // Step 1: the elasticity subproblem (4.5); only the right-hand side changes.
+    let mut k = 0;
+    while k < ctl.max_it {
+        // Step 1: the elasticity subproblem (4.5)/(5.3); only the right-hand side changes.
         {
             let _e = events.rhs.begin();
-            rhs.copy_from(&problem.rhs0)?;
-            rhs.write(|b| {
+            state.rhs.copy_from(&problem.rhs0)?;
+            let (phi_n, lambda_n, phi_t, lambda_t) =
+                (&state.phi_n, &state.lambda_n, &state.phi_t, &state.lambda_t);
+            state.rhs.write(|b| {
                 for i in 0..nc {
-                    let s = cs.w[i] * (r * phi[i] - lambda[i]);
+                    let w = cs.w[i];
+                    let sn = w * (r * phi_n[i] - lambda_n[i]);
                     let base = cs.node[i] * d;
                     for c in 0..d {
                         if !problem.is_dirichlet[base + c] {
-                            b[base + c] += s * n[c];
+                            let mut v = sn * n[c];
+                            if problem.tangential {
+                                v += w * (r * phi_t[i * d + c] - lambda_t[i * d + c]);
+                            }
+                            b[base + c] += v;
                         }
                     }
                 }
@@ -99,91 +182,119 @@ pub fn ubr_c<C: Communicator>(
         }
         let its = {
             let _e = events.solve.begin();
-            problem.ksp.solve(&rhs, &u)?
+            problem.ksp.solve(&state.rhs, &state.u)?
         };
-        inner.push(its);
-        // Steps 2 and 3: projection (4.15) and multiplier update (4.4), pointwise.
-        let _e = events.projection.begin();
-        let sums = u.read(|uv| {
-            let mut s = [0.0f64; 6];
+        state.inner_iterations.push(its);
+        // Steps 2 and 3: projections (4.15), (5.5) and the multiplier update (4.4), pointwise.
+        let e = events.projection.begin();
+        let st = &mut *state;
+        let sums = st.u.read(|uv| {
+            let mut s = [0.0f64; 8];
             // ||u^k - u^{k-1}||^2 and ||u^k||^2 with lumped mass
             for (j, m) in problem.lumped_mass.iter().enumerate() {
                 for c in 0..d {
                     let x = uv[j * d + c];
-                    let dx = x - u_prev[j * d + c];
+                    let dx = x - st.u_prev[j * d + c];
                     s[0] += m * dx * dx;
                     s[1] += m * x * x;
                 }
             }
-            u_prev.copy_from_slice(uv);
+            st.u_prev.copy_from_slice(uv);
             for i in 0..nc {
                 let base = cs.node[i] * d;
-                let uni: f64 = (0..d).map(|c| uv[base + c] * n[c]).sum();
-                // -sigma_n(u^k) by (4.7): the contact stress in equilibrium with u^k.
-                stress[i] = lambda[i] + r * (uni - phi[i]);
-                let (phi_new, lambda_new, contact) =
-                    project_normal(uni, lambda[i], cs.g[i], r, rho);
                 let w = cs.w[i];
-                s[2] += w * (phi_new - phi[i]).powi(2);
+                let uni: f64 = (0..d).map(|c| uv[base + c] * n[c]).sum();
+                // -sigma_n(u^k) by (4.7), before the update
+                st.stress_n[i] = st.lambda_n[i] + r * (uni - st.phi_n[i]);
+                let (phi_new, lambda_new, contact) =
+                    project_normal(uni, st.lambda_n[i], cs.g[i], r, rho);
+                s[2] += w * (phi_new - st.phi_n[i]).powi(2);
                 s[3] += w * phi_new * phi_new;
                 s[4] += w * (uni - phi_new).powi(2);
-                s[5] += if contact { 1.0 } else { 0.0 };
-                un[i] = uni;
-                phi[i] = phi_new;
-                lambda[i] = lambda_new;
-                in_contact[i] = contact;
+                st.un[i] = uni;
+                st.phi_n[i] = phi_new;
+                st.lambda_n[i] = lambda_new;
+                st.in_contact[i] = contact;
+                let mut ut = [0.0; 3];
+                for c in 0..d {
+                    ut[c] = uv[base + c] - uni * n[c];
+                    st.ut[i * d + c] = ut[c];
+                }
+                if let Some(bound) = friction_bound {
+                    let t = i * d..(i + 1) * d;
+                    for c in 0..d {
+                        st.stress_t[i * d + c] =
+                            st.lambda_t[i * d + c] + r * (ut[c] - st.phi_t[i * d + c]);
+                    }
+                    let mut phi_t = [0.0; 3];
+                    let mut lam_t = [0.0; 3];
+                    let slip = project_tangential(
+                        &ut[..d],
+                        &st.lambda_t[t.clone()],
+                        bound[i],
+                        r,
+                        rho,
+                        &mut phi_t[..d],
+                        &mut lam_t[..d],
+                    );
+                    for c in 0..d {
+                        let old = st.phi_t[i * d + c];
+                        s[2] += w * (phi_t[c] - old).powi(2);
+                        s[3] += w * phi_t[c] * phi_t[c];
+                        s[4] += w * (ut[c] - phi_t[c]).powi(2);
+                    }
+                    st.phi_t[t.clone()].copy_from_slice(&phi_t[..d]);
+                    st.lambda_t[t].copy_from_slice(&lam_t[..d]);
+                    st.slip[i] = slip;
+                    if contact {
+                        if slip {
+                            s[7] += 1.0;
+                        } else {
+                            s[6] += 1.0;
+                        }
+                    }
+                }
+                if contact {
+                    s[5] += 1.0;
+                }
             }
             s
         })?;
-        drop(_e);
-        let [du2, u2, dphi2, phi2, res2, ncontact] = allreduce_sum(world, sums);
-        criterion = if u2 + phi2 > 0.0 {
+        drop(e);
+        let [du2, u2, dphi2, phi2, res2, ncontact, nstick, nslip] = allreduce_sum(world, sums);
+        out.criterion = if u2 + phi2 > 0.0 {
             ((du2 + dphi2) / (u2 + phi2)).sqrt()
         } else {
             0.0
         };
-        residual = res2.sqrt();
-        if root && settings.monitor {
-            println!(
-                "  UBR-C {:5}   {:.6e}         {:.6e}   {}",
-                k, criterion, residual, ncontact as usize
-            );
+        out.residual = res2.sqrt();
+        out.contact = ncontact as usize;
+        out.stick = nstick as usize;
+        out.slip = nslip as usize;
+        if root && ctl.monitor {
+            if friction_bound.is_some() {
+                println!(
+                    "  {name} {:5}   {:.6e}         {:.6e}   {:7} {:6} {:6}",
+                    k, out.criterion, out.residual, out.contact, out.stick, out.slip
+                );
+            } else {
+                println!(
+                    "  {name} {:5}   {:.6e}         {:.6e}   {}",
+                    k, out.criterion, out.residual, out.contact
+                );
+            }
         }
         k += 1;
-        if !criterion.is_finite() || !residual.is_finite() {
+        out.iterations = k;
+        if !out.criterion.is_finite() || !out.residual.is_finite() {
             return Err(Error::NotConverged(format!(
-                "UBR-C produced a non-finite iterate at iteration {k}"
+                "{name} produced a non-finite iterate at iteration {k}"
             )));
         }
-        if k >= 2 && criterion < settings.rtol && residual < settings.residual_tol {
-            converged = true;
+        if k >= 2 && out.criterion < ctl.rtol && out.residual < ctl.residual_tol {
+            out.converged = true;
             break;
         }
     }
-    // Tangential displacement u_t = u - u_n n at each candidate.
-    let ut = u.read(|uv| {
-        let mut ut = vec![0.0; nc * d];
-        for i in 0..nc {
-            let base = cs.node[i] * d;
-            for c in 0..d {
-                ut[i * d + c] = uv[base + c] - un[i] * n[c];
-            }
-        }
-        ut
-    })?;
-    Ok(UbrResult {
-        iterations: k,
-        converged,
-        criterion,
-        residual,
-        un,
-        lambda_n: stress,
-        lambda_next: lambda,
-        phi_n: phi,
-        in_contact,
-        ut,
-        solution: u,
-        time_iterations: t0.elapsed().as_secs_f64(),
-        inner_iterations: inner,
-    })
+    Ok(out)
 }
