@@ -207,7 +207,18 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
             }
         })
         .collect();
-    let diag = diagnostics(world, &problem, &state, &solved.bound)?;
+    // The friction bound the conditions are checked against: s for Tresca,
+    // nu_f |lambda_n| of the returned solution for Coulomb.
+    let check_bound: Vec<f64> = if settings.friction == Friction::Coulomb {
+        state
+            .stress_n
+            .iter()
+            .map(|l| settings.friction_coefficient * l.abs())
+            .collect()
+    } else {
+        solved.bound.clone()
+    };
+    let diag = diagnostics(world, &problem, &state, &check_bound)?;
     let all_rows = report::gather_rows(world, &rows);
     let time_total = t_start.elapsed().as_secs_f64();
     let mut write_error: Option<Error> = None;
@@ -298,12 +309,18 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                 .opt("pressure_error_l2", hertz.as_ref().map(|h| h.error_l2))
                 .opt("pressure_error_rel", hertz.as_ref().map(|h| h.error_rel))
                 .opt("peak_pressure_hertz", hertz.as_ref().map(|h| h.peak_hertz))
-                .opt("contact_half_width_hertz", hertz.as_ref().map(|h| h.half_width_hertz))
+                .opt(
+                    "contact_half_width_hertz",
+                    hertz.as_ref().map(|h| h.half_width_hertz),
+                )
                 .num(
                     "peak_pressure",
                     all_rows.iter().map(|r| r.lambda_n).fold(0.0, f64::max),
                 )
-                .num("contact_half_width", hertz.as_ref().map(|h| h.half_width).unwrap_or(f64::NAN))
+                .num(
+                    "contact_half_width",
+                    hertz.as_ref().map(|h| h.half_width).unwrap_or(f64::NAN),
+                )
                 .num("equilibrium_residual", diag.equilibrium_abs)
                 .num("equilibrium_residual_rel", diag.equilibrium_rel)
                 .num("load_norm", diag.load_norm)
@@ -312,6 +329,10 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                 .num("max_abs_gap", diag.max_abs_gap)
                 .num("complementarity", diag.complementarity)
                 .num("max_friction_excess", diag.max_friction_excess)
+                .num("max_bound", diag.max_bound)
+                .num("max_slip", diag.max_slip)
+                .num("max_stick_slip", diag.max_stick_slip)
+                .num("min_slip_alignment", diag.min_slip_alignment)
                 .num("matrix_mallocs", problem.matrix_mallocs)
                 .int_array("inner_iterations", &state.inner_iterations);
             if let Err(e) = report::write_atomic("-report", path, j.render().as_bytes()) {
@@ -323,9 +344,8 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     // Make a write failure on rank 0 collective.
     let failed = allreduce_max(world, if write_error.is_some() { 1.0 } else { 0.0 });
     if failed > 0.0 {
-        return Err(write_error.unwrap_or_else(|| {
-            Error::BadInput("writing an output file failed on rank 0".into())
-        }));
+        return Err(write_error
+            .unwrap_or_else(|| Error::BadInput("writing an output file failed on rank 0".into())));
     }
     if !solved.converged {
         return Err(Error::NotConverged(solved.failure(&settings)));
@@ -459,14 +479,19 @@ fn solve<C: Communicator>(
         bound: Vec::new(),
     };
     // The bound s^0 from -tresca_bound (None: frictionless solve first, or zero for CF-FP).
-    let explicit_bound = |state: &mut ubr::UbrState, solved: &mut Solved| -> Result<Option<Vec<f64>>, Error> {
+    let explicit_bound = |state: &mut ubr::UbrState,
+                          solved: &mut Solved|
+     -> Result<Option<Vec<f64>>, Error> {
         Ok(match settings.tresca_bound {
             Some(TrescaBound::Value(v)) => Some(vec![v; nc]),
             Some(TrescaBound::Hertz) => Some(hertz_bound(
                 world,
                 local,
                 &problem.contact,
-                settings.reference.as_ref().expect("checked with the options"),
+                settings
+                    .reference
+                    .as_ref()
+                    .expect("checked with the options"),
                 nu_f,
                 e_star,
             )),
@@ -561,8 +586,16 @@ pub struct Diagnostics {
     pub max_abs_gap: f64,
     /// `sum w lambda_n (g - u_n)`.
     pub complementarity: f64,
-    /// `max (|lambda_t| - s)` over the candidates (0 without friction).
+    /// `max (|lambda_t| - s)` over the candidates (0 without friction), and max s.
     pub max_friction_excess: f64,
+    pub max_bound: f64,
+    /// Largest tangential slip |u_t| over all candidates, and over the sticking
+    /// ones (s > 0 and `|lambda_t + r u_t| <= s` at the last projection).
+    pub max_slip: f64,
+    pub max_stick_slip: f64,
+    /// Smallest cosine between u_t and lambda_t over the sliding candidates
+    /// whose slip exceeds 1e-6 of the largest (1: same direction, (2.9)).
+    pub min_slip_alignment: f64,
 }
 
 fn diagnostics<C: Communicator>(
@@ -614,6 +647,31 @@ fn diagnostics<C: Communicator>(
     let mut max_gap = 0.0f64;
     let mut compl = 0.0;
     let mut excess = f64::NEG_INFINITY;
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let mut max_slip = 0.0f64;
+    let mut max_stick_slip = 0.0f64;
+    for i in 0..cs.len() {
+        let slip = norm(&st.ut[i * d..(i + 1) * d]);
+        max_slip = max_slip.max(slip);
+        if p.tangential && !st.slip[i] && !bound.is_empty() && bound[i] > 0.0 {
+            max_stick_slip = max_stick_slip.max(slip);
+        }
+    }
+    let max_slip = allreduce_max(world, max_slip);
+    let max_stick_slip = allreduce_max(world, max_stick_slip);
+    let mut min_cos = 1.0f64;
+    if p.tangential {
+        for i in 0..cs.len() {
+            let ut = &st.ut[i * d..(i + 1) * d];
+            let lt = &st.stress_t[i * d..(i + 1) * d];
+            let (nu, nl) = (norm(ut), norm(lt));
+            if st.slip[i] && bound[i] > 0.0 && nu > 1e-6 * max_slip && nl > 0.0 {
+                let dot: f64 = ut.iter().zip(lt).map(|(a, b)| a * b).sum();
+                min_cos = min_cos.min(dot / (nu * nl));
+            }
+        }
+    }
+    let min_slip_alignment = -allreduce_max(world, -min_cos);
     for i in 0..cs.len() {
         min_lambda = min_lambda.min(st.stress_n[i]);
         max_pen = max_pen.max(st.un[i] - cs.g[i]);
@@ -650,6 +708,10 @@ fn diagnostics<C: Communicator>(
         max_abs_gap,
         complementarity: compl,
         max_friction_excess,
+        max_bound: allreduce_max(world, bound.iter().fold(0.0, |a: f64, &b| a.max(b))),
+        max_slip,
+        max_stick_slip,
+        min_slip_alignment,
     })
 }
 
@@ -773,8 +835,8 @@ fn print_summary(m: &Summary) {
     );
     if s.friction != Friction::None {
         println!(
-            "                  max (|lambda_t| - s) {:.3e}",
-            diag.max_friction_excess
+            "                  max (|lambda_t| - s) {:.3e}, slip at stick nodes {:.3e} (max slip {:.3e}), min cos(u_t, lambda_t) at slip nodes {:.12}",
+            diag.max_friction_excess, diag.max_stick_slip, diag.max_slip, diag.min_slip_alignment
         );
     }
     if let Some(h) = m.hertz {

@@ -460,7 +460,11 @@ impl Settings {
         {
             return bad(format!(
                 "option -friction_coefficient is required with -friction {}",
-                if friction == Friction::Tresca { "tresca" } else { "coulomb" }
+                if friction == Friction::Tresca {
+                    "tresca"
+                } else {
+                    "coulomb"
+                }
             ));
         }
         // Read here so -options_left does not flag it; the SSN-C comparator is not built yet.

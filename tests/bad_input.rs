@@ -139,3 +139,51 @@ fn contact_surface_without_candidates() {
 fn not_a_number() {
     expect_bad("nan", &hertz(&["-E", "abc"]), "-E");
 }
+
+#[test]
+fn friction_options() {
+    expect_bad(
+        "nof",
+        &hertz(&["-friction", "coulomb"]),
+        "-friction_coefficient",
+    );
+    expect_bad(
+        "tb",
+        &hertz(&[
+            "-friction",
+            "tresca",
+            "-friction_coefficient",
+            "0.6",
+            "-tresca_bound",
+            "-1",
+        ]),
+        "-tresca_bound",
+    );
+    expect_bad(
+        "tbh",
+        &[
+            "-mesh",
+            "meshes/hertz_442.msh",
+            "-E",
+            "2000",
+            "-nu",
+            "0.3",
+            "-contact_surface",
+            "contact",
+            "-contact_direction",
+            "0,-1",
+            "-obstacle",
+            "plane",
+            "-obstacle_point",
+            "0,0",
+            "-friction",
+            "tresca",
+            "-friction_coefficient",
+            "0.6",
+            "-tresca_bound",
+            "hertz",
+        ],
+        "-tresca_bound",
+    );
+    expect_bad("fl", &hertz(&["-friction", "viscous"]), "-friction");
+}

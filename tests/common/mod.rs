@@ -125,3 +125,60 @@ pub fn within(limit: Duration, run: &Run) {
         run.seconds
     );
 }
+
+/// A full contact CSV row.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub node: u64,
+    pub x: [f64; 3],
+    pub un: f64,
+    pub ut: [f64; 3],
+    pub lambda_n: f64,
+    pub lambda_t: [f64; 3],
+    pub status: String,
+}
+
+pub fn contact_rows(path: &Path) -> Vec<Row> {
+    let text = std::fs::read_to_string(path).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            let v = |i: usize| -> f64 { f[i].parse().unwrap() };
+            Row {
+                node: f[0].parse().unwrap(),
+                x: [v(1), v(2), v(3)],
+                un: v(6),
+                ut: [v(7), v(8), v(9)],
+                lambda_n: v(10),
+                lambda_t: [v(11), v(12), v(13)],
+                status: f[14].to_string(),
+            }
+        })
+        .collect()
+}
+
+/// Like `solve`, returning the full CSV rows.
+pub fn solve_rows(name: &str, ranks: usize, args: &[&str]) -> (Run, serde_json::Value, Vec<Row>) {
+    let dir = scratch(name);
+    let rep = dir.join("report.json");
+    let csv = dir.join("contact.csv");
+    let (rs, cs) = (
+        rep.to_str().unwrap().to_string(),
+        csv.to_str().unwrap().to_string(),
+    );
+    let mut a: Vec<&str> = args.to_vec();
+    a.extend_from_slice(&["-report", &rs, "-contact_output", &cs]);
+    let run = mpirun(ranks, &a);
+    assert_eq!(
+        run.status,
+        Some(0),
+        "{name}: stdout:\n{}\nstderr:\n{}",
+        run.stdout,
+        run.stderr
+    );
+    let r = report(&rep);
+    let c = contact_rows(&csv);
+    let _ = std::fs::remove_dir_all(&dir);
+    (run, r, c)
+}
