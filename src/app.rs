@@ -598,6 +598,7 @@ pub struct Diagnostics {
     pub min_slip_alignment: f64,
 }
 
+#[allow(clippy::needless_range_loop)] // per-candidate arrays indexed together
 fn diagnostics<C: Communicator>(
     world: &C,
     p: &Problem,

@@ -163,8 +163,7 @@ pub fn locality_order(graph: &NodeGraph, part: &[usize], nparts: usize) -> Vec<u
     for list in &mut members {
         list.sort_by_key(|&v| (graph.degree(v), v));
         let begin = order.len();
-        for idx in 0..list.len() {
-            let v = list[idx];
+        for &v in list.iter() {
             if visited[v] {
                 continue;
             }

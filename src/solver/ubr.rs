@@ -123,6 +123,7 @@ pub struct UbrOutcome {
 
 /// Runs UBR-C (`friction_bound` = None, the problem assembled without the
 /// tangential term) or UBR-TF (`Some(s)`, one bound per candidate) from `state`.
+#[allow(clippy::needless_range_loop)] // per-candidate arrays indexed together
 pub fn ubr<C: Communicator>(
     world: &C,
     problem: &Problem,
