@@ -7,7 +7,9 @@ use crate::mesh::{self, distribute, Mesh};
 use crate::options::{self, Friction, MeshSource, Settings, TrescaBound};
 use crate::petsc::{self, LogEvent, LogStage};
 use crate::report::{self, ContactRow, Json};
-use crate::solver::{allreduce_count, allreduce_max, allreduce_sum, cf_fp, ubr, Problem};
+use crate::solver::{
+    allreduce_count, allreduce_max, allreduce_sum, cf_fp, snesvi, ssn, ubr, ContactTerms, Problem,
+};
 use mpi::traits::*;
 use std::time::Instant;
 
@@ -102,9 +104,6 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     let stages = Stages::register()?;
     let events = Events::register()?;
     let settings = Settings::from_options()?;
-    if settings.algorithm != "ubr" {
-        return bad("option -contact_algorithm: only 'ubr' is available in this version");
-    }
     let Some(contact_settings) = settings.contact.clone() else {
         return bad(
             "option -contact_surface is required (a contact problem needs a candidate surface)",
@@ -158,7 +157,21 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
 
     // Assembly of K + r B^T W B, Dirichlet elimination, factorization (once).
     let friction = settings.friction != Friction::None;
-    let problem = Problem::setup(world, &local, &settings, cs, friction, &stages)?;
+    let ssn = settings.algorithm != "ubr";
+    if ssn && !settings.ssn_initial_shift.is_empty() && settings.ssn_initial_shift.len() != d {
+        return bad(format!(
+            "option -ssn_initial_shift: {} components given, the mesh is {d}D",
+            settings.ssn_initial_shift.len()
+        ));
+    }
+    let terms = if ssn {
+        ContactTerms::None
+    } else {
+        ContactTerms::Ubr {
+            tangential: friction,
+        }
+    };
+    let problem = Problem::setup(world, &local, &settings, cs, terms, &stages)?;
     if problem.matrix_mallocs != 0.0 {
         return Err(Error::Internal(format!(
             "{} mallocs during matrix assembly: preallocation is wrong",
@@ -175,6 +188,7 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
 
     // Output.
     let guard = stages.output.push()?;
+    let ssn_run = ssn_like(solved.name);
     let cs = &problem.contact;
     let rows: Vec<ContactRow> = (0..cs.len())
         .map(|i| {
@@ -287,7 +301,14 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                 .string("linear_solver", &problem.ksp_description)
                 .num("E", settings.young)
                 .num("nu", settings.nu)
-                .num("r", settings.ubr.r)
+                .num(
+                    "r",
+                    if ssn_run {
+                        settings.ssn_r
+                    } else {
+                        settings.ubr.r
+                    },
+                )
                 .num("rho", settings.ubr.rho)
                 .num("rtol", settings.ubr.rtol)
                 .num("residual_tol", settings.ubr.residual_tol)
@@ -353,6 +374,11 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     Ok(())
 }
 
+/// The comparators, whose iterations have no UBR stopping test.
+fn ssn_like(name: &str) -> bool {
+    name == "SSN-C" || name == "SNES-VI"
+}
+
 fn friction_name(f: Friction) -> &'static str {
     match f {
         Friction::None => "none",
@@ -377,7 +403,12 @@ pub struct Solved {
 
 impl Solved {
     fn failure(&self, s: &Settings) -> String {
-        if self.fixed_point_iterations > 0 && self.last.converged {
+        if self.name == "SSN-C" {
+            format!(
+                "SSN-C stopped after {} iterations (-ssn_max_it): the active set still changes",
+                self.iterations
+            )
+        } else if self.fixed_point_iterations > 0 && self.last.converged {
             format!(
                 "CF-FP stopped after {} fixed-point iterations (-ubr_fp_max_it): relative change of s {:.3e} (target {:.1e})",
                 self.fixed_point_iterations,
@@ -513,6 +544,28 @@ fn solve<C: Communicator>(
             None => None,
         })
     };
+    if settings.algorithm == "snesvi" {
+        let run = snesvi::snes_vi(world, problem, &mut state, &settings.ssn_initial_shift)?;
+        solved.name = "SNES-VI";
+        solved.iterations = run.iterations;
+        solved.converged = run.converged;
+        solved.last = run;
+        return Ok((state, solved));
+    }
+    if settings.algorithm == "ssn" {
+        let ctl = ssn::SsnControl {
+            r: settings.ssn_r,
+            max_it: settings.ssn_max_it,
+            initial_shift: settings.ssn_initial_shift.clone(),
+            monitor: u.monitor,
+        };
+        let (run, _) = ssn::ssn_c(world, problem, local, &mut state, &ctl, events)?;
+        solved.name = "SSN-C";
+        solved.iterations = run.iterations;
+        solved.converged = run.converged;
+        solved.last = run;
+        return Ok((state, solved));
+    }
     match settings.friction {
         Friction::None => {
             let run = ubr::ubr(world, problem, &mut state, None, &ctl, events)?;
@@ -628,7 +681,12 @@ fn diagnostics<C: Communicator>(
                         } else {
                             (st.un[i] * cs.n[c], st.stress_n[i] * cs.n[c])
                         };
-                        a[base + c] += w * (lam - p.r * bu);
+                        let r = if p.terms == ContactTerms::None {
+                            0.0
+                        } else {
+                            p.r
+                        };
+                        a[base + c] += w * (lam - r * bu);
                     }
                 }
                 let mut eq2 = 0.0;
@@ -777,12 +835,43 @@ fn print_summary(m: &Summary) {
         println!("  friction        nu_f = {}", s.friction_coefficient);
     }
     println!("  linear solver   {}", m.problem.ksp_description);
-    println!(
-        "  r               {} (rho = {}, r/E = {})",
-        s.ubr.r,
-        s.ubr.rho,
-        s.ubr.r / s.young
-    );
+    if res.name == "SNES-VI" {
+        println!(
+            "  iterations      {} Newton iterations of PETSc's vinewtonrsls ({} linear)",
+            res.iterations, m.inner_total
+        );
+    } else if res.name == "SSN-C" {
+        println!(
+            "  r (SSN-C)       {} (r/E = {}), initial guess ({})",
+            s.ssn_r,
+            s.ssn_r / s.young,
+            if s.ssn_initial_shift.is_empty() {
+                "0".to_string()
+            } else {
+                s.ssn_initial_shift
+                    .iter()
+                    .map(|v| v.to_string())
+                    .collect::<Vec<_>>()
+                    .join(",")
+            }
+        );
+        println!(
+            "  iterations      {}, {} (one factorization each)",
+            res.iterations,
+            if res.converged {
+                "converged: the active set repeated"
+            } else {
+                "NOT converged"
+            }
+        );
+    } else {
+        println!(
+            "  r               {} (rho = {}, r/E = {})",
+            s.ubr.r,
+            s.ubr.rho,
+            s.ubr.r / s.young
+        );
+    }
     if res.frictionless_iterations > 0 {
         println!(
             "  frictionless    {} UBR iterations for the bound s = nu_f lambda_c",
@@ -799,7 +888,8 @@ fn print_summary(m: &Summary) {
             s.ubr.fp_rtol
         );
     }
-    println!(
+    if !ssn_like(res.name) {
+        println!(
         "  iterations      {}, {} (last run: rel. change {:.3e}, target {:.1e}; residual {:.3e}, target {:.1e})",
         res.iterations,
         if res.converged { "converged" } else { "NOT converged" },
@@ -808,6 +898,7 @@ fn print_summary(m: &Summary) {
         res.last.residual,
         s.ubr.residual_tol
     );
+    }
     if m.problem.iterative {
         println!("  inner its       {} in total", m.inner_total);
     }

@@ -24,7 +24,7 @@ pub const HELP: &[(&str, &str, &str)] = &[
     ("-friction none|tresca|coulomb", "none", "friction law"),
     ("-friction_coefficient NU_F", "required with friction", "Coulomb friction coefficient nu_f (also scales -tresca_bound hertz|frictionless)"),
     ("-tresca_bound VALUE|hertz|frictionless", "frictionless (tresca), 0 (coulomb)", "Tresca bound s: a constant, nu_f x Hertz pressure, or nu_f x lambda_c of a frictionless solve; with coulomb, the starting s^0"),
-    ("-contact_algorithm ubr|ssn", "ubr", "UBR (the paper's algorithms) or the SSN-C comparator"),
+    ("-contact_algorithm ubr|ssn|snesvi", "ubr", "UBR (the paper's algorithms), the SSN-C comparator, or PETSc's SNES VI (vinewtonrsls; contact direction along an axis)"),
     ("-ubr_r R", "E", "augmentation parameter r of the augmented Lagrangian (3.7)"),
     ("-ubr_rho RHO", "r", "multiplier step rho in (4.4); convergence needs 0 < rho < r(1+sqrt 5)/2"),
     ("-ubr_rtol EPS", "1e-5", "relative tolerance eps_c = eps_f of the stopping tests (4.16), (5.6)"),
@@ -33,7 +33,9 @@ pub const HELP: &[(&str, &str, &str)] = &[
     ("-ubr_fp_rtol EPS", "1e-4", "fixed-point tolerance eps_fp of (5.7) (CF-FP)"),
     ("-ubr_fp_max_it N", "100", "maximum fixed-point iterations (CF-FP)"),
     ("-ubr_monitor", "false", "print one line per UBR iteration"),
-    ("-ssn_r R", "1e3 E", "SSN-C parameter r"),
+    ("-ssn_r R", "1e3 E", "SSN-C parameter r of (7.1)"),
+    ("-ssn_initial_shift ux,uy[,uz]", "0", "SSN-C initial guess u^0, the same at every node (the paper: 0,-0.01 for the floating Hertz body)"),
+    ("-ssn_max_it N", "100", "maximum SSN-C iterations"),
     ("-reference hertz", "none", "compare the contact pressure with the analytic Hertz pressure"),
     ("-reference_force F", "required with -reference", "Hertz load: per unit thickness of the whole cylinder (2D), on the whole sphere (3D)"),
     ("-reference_radius R", "required with -reference", "radius of the Hertz cylinder or sphere"),
@@ -146,6 +148,10 @@ pub struct Settings {
     pub tresca_bound: Option<TrescaBound>,
     pub algorithm: String,
     pub ubr: UbrSettings,
+    /// SSN-C: r, initial displacement shift, iteration cap.
+    pub ssn_r: f64,
+    pub ssn_initial_shift: Vec<f64>,
+    pub ssn_max_it: usize,
     pub reference: Option<HertzReference>,
     pub report: Option<String>,
     pub contact_output: Option<String>,
@@ -364,9 +370,9 @@ impl Settings {
             }
         };
         let algorithm = get_word("-contact_algorithm")?.unwrap_or_else(|| "ubr".into());
-        if algorithm != "ubr" && algorithm != "ssn" {
+        if !["ubr", "ssn", "snesvi"].contains(&algorithm.as_str()) {
             return bad(format!(
-                "option -contact_algorithm: unknown algorithm '{algorithm}' (ubr, ssn)"
+                "option -contact_algorithm: unknown algorithm '{algorithm}' (ubr, ssn, snesvi)"
             ));
         }
 
@@ -467,8 +473,17 @@ impl Settings {
                 }
             ));
         }
-        // Read here so -options_left does not flag it; the SSN-C comparator is not built yet.
-        let _ = get_f64("-ssn_r")?;
+        let ssn_r = get_f64("-ssn_r")?.unwrap_or(1e3 * young);
+        if ssn_r <= 0.0 {
+            return bad(format!("option -ssn_r: {ssn_r} is not positive"));
+        }
+        let ssn_initial_shift = get_vec("-ssn_initial_shift")?.unwrap_or_default();
+        let ssn_max_it = get_usize("-ssn_max_it", 100)?;
+        if algorithm != "ubr" && friction != Friction::None {
+            return bad(format!(
+                "option -contact_algorithm {algorithm}: this comparator is frictionless (-friction none)"
+            ));
+        }
 
         Ok(Settings {
             mesh,
@@ -483,6 +498,9 @@ impl Settings {
             tresca_bound,
             algorithm,
             ubr,
+            ssn_r,
+            ssn_initial_shift,
+            ssn_max_it,
             reference,
             report,
             contact_output,

@@ -245,6 +245,18 @@ impl Matrix {
         })
     }
 
+    /// A copy of this matrix, values included.
+    pub fn duplicate(&self) -> Result<Matrix, Error> {
+        let mut raw: sys::Mat = std::ptr::null_mut();
+        unsafe { check(sys::MatDuplicate(self.raw, sys::MAT_COPY_VALUES, &mut raw))? };
+        Ok(Matrix { raw })
+    }
+
+    /// Copies the values of `other` (same nonzero pattern) into this matrix.
+    pub fn copy_from(&self, other: &Matrix) -> Result<(), Error> {
+        unsafe { check(sys::MatCopy(other.raw, self.raw, sys::SAME_NONZERO_PATTERN)) }
+    }
+
     pub fn set_near_nullspace(&self, ns: &NullSpace) -> Result<(), Error> {
         unsafe { check(sys::MatSetNearNullSpace(self.raw, ns.raw)) }
     }
@@ -386,5 +398,112 @@ impl Ksp {
         } else {
             unsafe { CStr::from_ptr(t).to_string_lossy().into_owned() }
         })
+    }
+}
+
+/// The data the SNES callbacks of a linear residual `F(x) = A x - b` need.
+struct LinearResidual {
+    a: sys::Mat,
+    b: sys::Vec,
+}
+
+unsafe extern "C" fn linear_residual(
+    _snes: sys::SNES,
+    x: sys::Vec,
+    f: sys::Vec,
+    ctx: *mut std::ffi::c_void,
+) -> sys::PetscErrorCode {
+    let c = &*(ctx as *const LinearResidual);
+    let e = sys::MatMult(c.a, x, f);
+    if e != 0 {
+        return e;
+    }
+    sys::VecAXPY(f, -1.0, c.b)
+}
+
+unsafe extern "C" fn constant_jacobian(
+    _snes: sys::SNES,
+    _x: sys::Vec,
+    _j: sys::Mat,
+    _p: sys::Mat,
+    _ctx: *mut std::ffi::c_void,
+) -> sys::PetscErrorCode {
+    0 // the Jacobian of a linear residual is its (already assembled) matrix
+}
+
+/// A PETSc nonlinear solver (`SNES`) on the linear residual `A x - b` with
+/// variable bounds (SNES VI), for the SNES VI comparator.
+pub struct Snes {
+    raw: sys::SNES,
+    _ctx: Box<LinearResidual>,
+}
+
+impl Drop for Snes {
+    fn drop(&mut self) {
+        unsafe {
+            sys::SNESDestroy(&mut self.raw);
+        }
+    }
+}
+
+impl Snes {
+    /// `vinewtonrsls` (unless `-snes_type` says otherwise) on `F(x) = A x - b`,
+    /// with `lower <= x <= upper`; every SNES option applies.
+    pub fn new_vi(a: &Matrix, b: &Vector, lower: &Vector, upper: &Vector) -> Result<Snes, Error> {
+        let mut raw: sys::SNES = std::ptr::null_mut();
+        let ctx = Box::new(LinearResidual { a: a.raw, b: b.raw });
+        unsafe {
+            check(sys::SNESCreate(super::comm_world(), &mut raw))?;
+            let s = Snes { raw, _ctx: ctx };
+            check(sys::SNESSetType(
+                s.raw,
+                sys::SNESVINEWTONRSLS.as_ptr() as *const _,
+            ))?;
+            let f = b.duplicate()?;
+            check(sys::SNESSetFunction(
+                s.raw,
+                f.raw,
+                Some(linear_residual),
+                &*s._ctx as *const LinearResidual as *mut std::ffi::c_void,
+            ))?;
+            check(sys::SNESSetJacobian(
+                s.raw,
+                a.raw,
+                a.raw,
+                Some(constant_jacobian),
+                std::ptr::null_mut(),
+            ))?;
+            check(sys::SNESVISetVariableBounds(s.raw, lower.raw, upper.raw))?;
+            check(sys::SNESSetFromOptions(s.raw))?;
+            Ok(s)
+        }
+    }
+
+    /// Solves from the initial guess in `x`; returns (Newton iterations, linear iterations).
+    pub fn solve(&self, x: &Vector) -> Result<(usize, usize), Error> {
+        let mut its: sys::PetscInt = 0;
+        let mut lits: sys::PetscInt = 0;
+        let mut reason: sys::SNESConvergedReason = 0;
+        unsafe {
+            check(sys::SNESSolve(self.raw, std::ptr::null_mut(), x.raw))?;
+            check(sys::SNESGetIterationNumber(self.raw, &mut its))?;
+            check(sys::SNESGetLinearSolveIterations(self.raw, &mut lits))?;
+            check(sys::SNESGetConvergedReason(self.raw, &mut reason))?;
+        }
+        if (reason as i32) <= 0 {
+            let mut name: *const std::ffi::c_char = std::ptr::null();
+            unsafe {
+                sys::SNESGetConvergedReasonString(self.raw, &mut name);
+            }
+            let name = if name.is_null() {
+                format!("{}", reason as i32)
+            } else {
+                unsafe { CStr::from_ptr(name).to_string_lossy().into_owned() }
+            };
+            return Err(Error::NotConverged(format!(
+                "SNES VI did not converge after {its} Newton iterations: {name}"
+            )));
+        }
+        Ok((its as usize, lits as usize))
     }
 }

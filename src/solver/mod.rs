@@ -6,6 +6,8 @@
 //! whose factorization (`KSPSetUp`) happens once, in the Factorization stage.
 
 pub mod cf_fp;
+pub mod snesvi;
+pub mod ssn;
 pub mod ubr;
 
 use crate::contact::ContactSet;
@@ -53,6 +55,11 @@ pub struct Problem {
     pub r: f64,
     /// Whether `r B_t^T W B_t` is in the matrix too (friction).
     pub tangential: bool,
+    /// Owned Dirichlet dofs and values, and the diagonal put on their rows.
+    pub dirichlet: Vec<(usize, f64)>,
+    pub diag_scale: f64,
+    /// The contact terms in `matrix`.
+    pub terms: ContactTerms,
     pub iterative: bool,
     pub time_assembly: f64,
     pub time_factorization: f64,
@@ -98,26 +105,72 @@ fn default_solver_options() -> Result<(), Error> {
     Ok(())
 }
 
+/// Which contact terms the assembled matrix carries.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ContactTerms {
+    /// `r B^T W B` of UBR (normal only, or normal and tangential), factorized once.
+    Ubr { tangential: bool },
+    /// None: K alone, not factorized (SSN-C adds its active terms and factorizes each iteration).
+    None,
+}
+
+/// The KSP for `matrix` from the options database (default: a MUMPS Cholesky
+/// factorization), with the rigid-body near-nullspace for algebraic multigrid
+/// and the previous iterate as initial guess for Krylov methods. Returns the
+/// solver, a description for the summary, and whether it is iterative.
+pub fn linear_solver(matrix: &Matrix, mesh: &LocalMesh) -> Result<(Ksp, String, bool), Error> {
+    let comm = petsc::comm_world();
+    let d = mesh.dim;
+    let nown = mesh.owned_count * d;
+    default_solver_options()?;
+    let ksp = Ksp::new(comm)?;
+    ksp.set_operators(matrix)?;
+    ksp.set_from_options()?;
+    let pc_type = ksp.pc_type()?;
+    let ksp_type = ksp.ksp_type()?;
+    let iterative = ksp_type != "preonly";
+    if pc_type == "gamg" || pc_type == "ml" || pc_type == "hypre" {
+        let coords = Vector::new(comm, nown, d)?;
+        coords.write(|c| c.copy_from_slice(&mesh.coords[..nown]))?;
+        let ns = NullSpace::rigid_body(&coords)?;
+        matrix.set_near_nullspace(&ns)?;
+    }
+    if iterative {
+        ksp.set_initial_guess_nonzero(true)?;
+    }
+    let description = match options::get_string("-pc_factor_mat_solver_type")? {
+        Some(s) if pc_type == "cholesky" || pc_type == "lu" => {
+            format!("{ksp_type} + {pc_type} ({s})")
+        }
+        _ => format!("{ksp_type} + {pc_type}"),
+    };
+    Ok((ksp, description, iterative))
+}
+
 impl Problem {
     pub fn setup<C: Communicator>(
         world: &C,
         mesh: &LocalMesh,
         settings: &Settings,
         contact: ContactSet,
-        tangential: bool,
+        terms: ContactTerms,
         stages: &crate::Stages,
     ) -> Result<Problem, Error> {
         let comm = petsc::comm_world();
         let d = mesh.dim;
         let r = settings.ubr.r;
+        let tangential = terms == ContactTerms::Ubr { tangential: true };
         let t0 = std::time::Instant::now();
         let guard = stages.assembly.push()?;
-        let extra: Vec<(usize, Vec<f64>)> = contact
-            .node
-            .iter()
-            .zip(&contact.w)
-            .map(|(&v, &w)| (v, contact_block(d, &contact.n, r * w, tangential)))
-            .collect();
+        let extra: Vec<(usize, Vec<f64>)> = match terms {
+            ContactTerms::Ubr { tangential } => contact
+                .node
+                .iter()
+                .zip(&contact.w)
+                .map(|(&v, &w)| (v, contact_block(d, &contact.n, r * w, tangential)))
+                .collect(),
+            ContactTerms::None => Vec::new(),
+        };
         let el = fem::assemble_stiffness(comm, mesh, settings, &extra)?;
         let a = el.stiffness;
         let load_local = fem::traction_load(mesh, &settings.traction)?;
@@ -174,31 +227,12 @@ impl Problem {
 
         let t1 = std::time::Instant::now();
         let guard = stages.factorization.push()?;
-        default_solver_options()?;
-        let ksp = Ksp::new(comm)?;
-        ksp.set_operators(&a)?;
-        ksp.set_from_options()?;
-        let pc_type = ksp.pc_type()?;
-        let ksp_type = ksp.ksp_type()?;
-        let iterative = ksp_type != "preonly";
-        if pc_type == "gamg" || pc_type == "ml" || pc_type == "hypre" {
-            let coords = Vector::new(comm, nown, d)?;
-            coords.write(|c| c.copy_from_slice(&mesh.coords[..nown]))?;
-            let ns = NullSpace::rigid_body(&coords)?;
-            a.set_near_nullspace(&ns)?;
+        let (ksp, ksp_description, iterative) = linear_solver(&a, mesh)?;
+        if terms != ContactTerms::None {
+            ksp.set_up()?; // the one factorization of UBR
         }
-        if iterative {
-            ksp.set_initial_guess_nonzero(true)?;
-        }
-        ksp.set_up()?;
         drop(guard);
         let time_factorization = t1.elapsed().as_secs_f64();
-        let ksp_description = match options::get_string("-pc_factor_mat_solver_type")? {
-            Some(s) if pc_type == "cholesky" || pc_type == "lu" => {
-                format!("{ksp_type} + {pc_type} ({s})")
-            }
-            _ => format!("{ksp_type} + {pc_type}"),
-        };
         Ok(Problem {
             dim: d,
             matrix: a,
@@ -210,6 +244,9 @@ impl Problem {
             contact,
             r,
             tangential,
+            dirichlet: dir,
+            diag_scale,
+            terms,
             iterative,
             time_assembly,
             time_factorization,

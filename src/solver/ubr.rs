@@ -77,6 +77,14 @@ impl UbrState {
         })
     }
 
+    /// The right-hand side work vector (for other algorithms sharing the state).
+    pub fn rhs_mut(&mut self) -> &mut Vector {
+        &mut self.rhs
+    }
+    pub fn rhs_ref(&self) -> &Vector {
+        &self.rhs
+    }
+
     /// Back to the paper's initialization (a cold start).
     pub fn reset(&mut self) -> Result<(), Error> {
         for v in [

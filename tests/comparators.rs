@@ -1,0 +1,97 @@
+//! The comparators of the paper's section 7 and of PETSc: SSN-C (semi-smooth
+//! Newton, refactorized every iteration) and SNES VI (vinewtonrsls).
+mod common;
+use common::*;
+
+const MESHES: [&str; 5] = [
+    "meshes/hertz_442.msh",
+    "meshes/hertz_1692.msh",
+    "meshes/hertz_6619.msh",
+    "meshes/hertz_26181.msh",
+    "meshes/hertz_37473.msh",
+];
+
+fn hertz<'a>(mesh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec!["-options_file", "options/hertz", "-mesh", mesh];
+    v.extend_from_slice(extra);
+    v
+}
+
+/// Table 1: SSN-C (r = 1e3 E, u^0 = (0,-0.01)) takes 5-12 iterations (paper: 7-10).
+#[test]
+fn ssn_iterations_on_five_meshes() {
+    for mesh in MESHES {
+        let (run, r, _) = solve_rows(
+            "ssn",
+            2,
+            &hertz(mesh, &["-contact_algorithm", "ssn", "-ssn_initial_shift", "0,-0.01"]),
+        );
+        let its = num(&r, "iterations");
+        assert!((5.0..=12.0).contains(&its), "{mesh}: {its}\n{}", run.stdout);
+        assert!((num(&r, "contact_force") - 800.0).abs() <= 1e-6 * 800.0);
+    }
+}
+
+/// SSN-C factorizes every iteration but analyses the pattern once.
+#[test]
+fn ssn_refactorizes_with_one_symbolic_analysis() {
+    let run = mpirun(
+        2,
+        &hertz(
+            "meshes/hertz_1692.msh",
+            &["-contact_algorithm", "ssn", "-ssn_initial_shift", "0,-0.01", "-log_view"],
+        ),
+    );
+    assert_eq!(run.status, Some(0), "{}", run.stderr);
+    let count = |event: &str| -> usize {
+        let line = run.stdout.lines().find(|l| l.starts_with(event)).unwrap_or_else(|| panic!("no {event}"));
+        line.split_whitespace().nth(1).unwrap().parse().unwrap()
+    };
+    assert_eq!(count("MatCholFctrSym"), 1);
+    assert!(count("MatCholFctrNum") >= 5);
+}
+
+fn max_rel_diff(a: &[Row], b: &[Row]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let pmax = a.iter().map(|x| x.lambda_n).fold(0.0, f64::max);
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| {
+            assert_eq!(x.node, y.node);
+            (x.lambda_n - y.lambda_n).abs() / pmax
+        })
+        .fold(0.0, f64::max)
+}
+
+/// At convergence SSN-C (with a large r: it solves the penalized problem) and
+/// UBR-C at a tight tolerance give the same pressures, and SNES VI matches both.
+#[test]
+fn ssn_snesvi_and_ubr_agree() {
+    let mesh = "meshes/hertz_1692.msh";
+    let (_, _, ubr) = solve_rows("ubr_tight", 2, &hertz(mesh, &["-ubr_rtol", "1e-12"]));
+    let (_, _, ssn) = solve_rows(
+        "ssn_big_r",
+        2,
+        &hertz(mesh, &["-contact_algorithm", "ssn", "-ssn_initial_shift", "0,-0.01", "-ssn_r", "2e12"]),
+    );
+    let (_, r, vi) = solve_rows(
+        "snesvi",
+        2,
+        &hertz(mesh, &["-contact_algorithm", "snesvi", "-ssn_initial_shift", "0,-0.01"]),
+    );
+    assert!(num(&r, "max_penetration") <= 1e-12);
+    let d1 = max_rel_diff(&ubr, &ssn);
+    let d2 = max_rel_diff(&ssn, &vi);
+    let d3 = max_rel_diff(&ubr, &vi);
+    assert!(d1 <= 1e-6, "UBR-C vs SSN-C {d1}");
+    assert!(d2 <= 1e-6, "SSN-C vs SNES VI {d2}");
+    assert!(d3 <= 1e-6, "UBR-C vs SNES VI {d3}");
+}
+
+/// A floating body that no active node holds: SSN-C says so instead of returning garbage.
+#[test]
+fn ssn_without_initial_contact_says_why() {
+    let run = mpirun(2, &hertz("meshes/hertz_442.msh", &["-contact_algorithm", "ssn"]));
+    assert_eq!(run.status, Some(3), "{}", run.stderr);
+    assert!(run.stderr.contains("-ssn_initial_shift"), "{}", run.stderr);
+}
