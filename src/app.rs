@@ -495,6 +495,7 @@ fn solve<C: Communicator>(
         residual_tol: u.residual_tol,
         max_it: u.max_it,
         monitor: u.monitor,
+        inner_rtol_factor: u.inner_rtol_factor,
     };
     let nc = problem.contact.len();
     let nu_f = settings.friction_coefficient;

@@ -24,7 +24,10 @@ fn ssn_iterations_on_five_meshes() {
         let (run, r, _) = solve_rows(
             "ssn",
             2,
-            &hertz(mesh, &["-contact_algorithm", "ssn", "-ssn_initial_shift", "0,-0.01"]),
+            &hertz(
+                mesh,
+                &["-contact_algorithm", "ssn", "-ssn_initial_shift", "0,-0.01"],
+            ),
         );
         let its = num(&r, "iterations");
         assert!((5.0..=12.0).contains(&its), "{mesh}: {its}\n{}", run.stdout);
@@ -39,12 +42,22 @@ fn ssn_refactorizes_with_one_symbolic_analysis() {
         2,
         &hertz(
             "meshes/hertz_1692.msh",
-            &["-contact_algorithm", "ssn", "-ssn_initial_shift", "0,-0.01", "-log_view"],
+            &[
+                "-contact_algorithm",
+                "ssn",
+                "-ssn_initial_shift",
+                "0,-0.01",
+                "-log_view",
+            ],
         ),
     );
     assert_eq!(run.status, Some(0), "{}", run.stderr);
     let count = |event: &str| -> usize {
-        let line = run.stdout.lines().find(|l| l.starts_with(event)).unwrap_or_else(|| panic!("no {event}"));
+        let line = run
+            .stdout
+            .lines()
+            .find(|l| l.starts_with(event))
+            .unwrap_or_else(|| panic!("no {event}"));
         line.split_whitespace().nth(1).unwrap().parse().unwrap()
     };
     assert_eq!(count("MatCholFctrSym"), 1);
@@ -72,12 +85,30 @@ fn ssn_snesvi_and_ubr_agree() {
     let (_, _, ssn) = solve_rows(
         "ssn_big_r",
         2,
-        &hertz(mesh, &["-contact_algorithm", "ssn", "-ssn_initial_shift", "0,-0.01", "-ssn_r", "2e12"]),
+        &hertz(
+            mesh,
+            &[
+                "-contact_algorithm",
+                "ssn",
+                "-ssn_initial_shift",
+                "0,-0.01",
+                "-ssn_r",
+                "2e12",
+            ],
+        ),
     );
     let (_, r, vi) = solve_rows(
         "snesvi",
         2,
-        &hertz(mesh, &["-contact_algorithm", "snesvi", "-ssn_initial_shift", "0,-0.01"]),
+        &hertz(
+            mesh,
+            &[
+                "-contact_algorithm",
+                "snesvi",
+                "-ssn_initial_shift",
+                "0,-0.01",
+            ],
+        ),
     );
     assert!(num(&r, "max_penetration") <= 1e-12);
     let d1 = max_rel_diff(&ubr, &ssn);
@@ -91,7 +122,10 @@ fn ssn_snesvi_and_ubr_agree() {
 /// A floating body that no active node holds: SSN-C says so instead of returning garbage.
 #[test]
 fn ssn_without_initial_contact_says_why() {
-    let run = mpirun(2, &hertz("meshes/hertz_442.msh", &["-contact_algorithm", "ssn"]));
+    let run = mpirun(
+        2,
+        &hertz("meshes/hertz_442.msh", &["-contact_algorithm", "ssn"]),
+    );
     assert_eq!(run.status, Some(3), "{}", run.stderr);
     assert!(run.stderr.contains("-ssn_initial_shift"), "{}", run.stderr);
 }

@@ -61,6 +61,9 @@ pub struct Problem {
     /// The contact terms in `matrix`.
     pub terms: ContactTerms,
     pub iterative: bool,
+    /// Inexact Uzawa: the inner tolerance follows the outer progress (iterative
+    /// solvers only, unless the user fixed -ksp_rtol).
+    pub adaptive_inner: bool,
     pub time_assembly: f64,
     pub time_factorization: f64,
     pub matrix_mallocs: f64,
@@ -101,6 +104,10 @@ fn default_solver_options() -> Result<(), Error> {
         }
     } else {
         options::set_default("-ksp_type", "cg")?;
+        if options::get_string("-ksp_type")?.as_deref() == Some("cg") {
+            // Converge on the true residual, not the preconditioned one.
+            options::set_default("-ksp_norm_type", "unpreconditioned")?;
+        }
     }
     Ok(())
 }
@@ -247,6 +254,7 @@ impl Problem {
             dirichlet: dir,
             diag_scale,
             terms,
+            adaptive_inner: iterative && !options::has_name("-ksp_rtol")?,
             iterative,
             time_assembly,
             time_factorization,

@@ -113,6 +113,8 @@ pub struct UbrControl {
     pub residual_tol: f64,
     pub max_it: usize,
     pub monitor: bool,
+    /// Inexact Uzawa: inner KSP rtol = clamp(factor x last (4.16) change, 1e-3 eps, factor).
+    pub inner_rtol_factor: f64,
 }
 
 /// What one UBR run did.
@@ -188,6 +190,17 @@ pub fn ubr<C: Communicator>(
                     }
                 }
             })?;
+        }
+        if problem.adaptive_inner {
+            // Loose early, tight at the end: the solve starts from u^{k-1}, so
+            // it only has to resolve the change, which shrinks with (4.16).
+            let last = if out.criterion.is_finite() {
+                out.criterion
+            } else {
+                1.0
+            };
+            let f = ctl.inner_rtol_factor;
+            problem.ksp.set_rtol((f * last).clamp(1e-3 * ctl.rtol, f))?;
         }
         let its = {
             let _e = events.solve.begin();
@@ -281,14 +294,19 @@ pub fn ubr<C: Communicator>(
         out.stick = nstick as usize;
         out.slip = nslip as usize;
         if root && ctl.monitor {
+            let inner = if problem.iterative {
+                format!("   inner its {its}")
+            } else {
+                String::new()
+            };
             if friction_bound.is_some() {
                 println!(
-                    "  {name} {:5}   {:.6e}         {:.6e}   {:7} {:6} {:6}",
+                    "  {name} {:5}   {:.6e}         {:.6e}   {:7} {:6} {:6}{inner}",
                     k, out.criterion, out.residual, out.contact, out.stick, out.slip
                 );
             } else {
                 println!(
-                    "  {name} {:5}   {:.6e}         {:.6e}   {}",
+                    "  {name} {:5}   {:.6e}         {:.6e}   {}{inner}",
                     k, out.criterion, out.residual, out.contact
                 );
             }
