@@ -58,6 +58,7 @@ fn load_mesh(source: &MeshSource) -> Result<Mesh, Error> {
         MeshSource::File(path) => mesh::gmsh::read_gmsh(std::path::Path::new(path))?,
         MeshSource::Generate { name, h } => match name.as_str() {
             "hertz2d" => mesh::hertz2d::generate(*h)?,
+            "block3d" => mesh::block3d::generate(*h)?,
             other => return bad(format!("option -mesh_generate: unknown mesh '{other}'")),
         },
     };

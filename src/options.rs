@@ -8,7 +8,7 @@ use crate::petsc::options;
 /// (option, default, description) for `-help`.
 pub const HELP: &[(&str, &str, &str)] = &[
     ("-mesh FILE", "none", "Gmsh mesh (.msh 2.2 or 4.1, ASCII or binary); boundary conditions name its physical groups"),
-    ("-mesh_generate NAME", "none", "built-in mesh, wins over -mesh: hertz2d (quarter cylinder of the paper's section 7.1)"),
+    ("-mesh_generate NAME", "none", "built-in mesh, wins over -mesh: hertz2d (quarter cylinder, section 7.1) or block3d (the block of section 7.2)"),
     ("-mesh_h H", "0.5", "element size of -mesh_generate"),
     ("-E VALUE", "required", "Young's modulus"),
     ("-nu VALUE", "required", "Poisson's ratio, in (-1, 0.5)"),
@@ -255,9 +255,9 @@ impl Settings {
             (Some(f), None) => MeshSource::File(f.trim().to_string()),
             (_, Some(g)) => {
                 let name = g.trim().to_string();
-                if name != "hertz2d" {
+                if name != "hertz2d" && name != "block3d" {
                     return bad(format!(
-                        "option -mesh_generate: unknown mesh '{name}' (hertz2d)"
+                        "option -mesh_generate: unknown mesh '{name}' (hertz2d, block3d)"
                     ));
                 }
                 let h = get_f64("-mesh_h")?.unwrap_or(0.5);
@@ -266,7 +266,9 @@ impl Settings {
                 }
                 MeshSource::Generate { name, h }
             }
-            (None, None) => return bad("no mesh: give -mesh FILE or -mesh_generate hertz2d"),
+            (None, None) => {
+                return bad("no mesh: give -mesh FILE or -mesh_generate hertz2d|block3d")
+            }
         };
         let Some(young) = get_f64("-E")? else {
             return bad("option -E (Young's modulus) is required");

@@ -5,6 +5,7 @@
 //! physical groups (points, lines, and triangles in 3D) are kept as named
 //! [`Group`]s, since boundary conditions refer to physical-group names.
 
+pub mod block3d;
 pub mod distribute;
 pub mod gmsh;
 pub mod hertz2d;
