@@ -345,7 +345,7 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                 )
                 .num("equilibrium_residual", diag.equilibrium_abs)
                 .num("equilibrium_residual_rel", diag.equilibrium_rel)
-                .num("load_norm", diag.load_norm)
+                .num("equilibrium_scale", diag.load_norm)
                 .num("min_lambda_n", diag.min_lambda)
                 .num("max_penetration", diag.max_penetration)
                 .num("max_abs_gap", diag.max_abs_gap)
@@ -631,7 +631,9 @@ struct Times {
 
 /// The discrete optimality conditions at the returned iterate.
 pub struct Diagnostics {
-    /// `||K u - f + B^T W lambda||` on the free dofs, and relative to `||f||`.
+    /// `||K u - f + B^T W lambda||` on the free dofs, and relative to
+    /// `max(||f||, ||B^T W lambda||)` (the load, or the contact forces when
+    /// the body is loaded by a prescribed displacement only).
     pub equilibrium_abs: f64,
     pub equilibrium_rel: f64,
     pub load_norm: f64,
@@ -645,7 +647,7 @@ pub struct Diagnostics {
     pub max_friction_excess: f64,
     pub max_bound: f64,
     /// Largest tangential slip |u_t| over all candidates, and over the sticking
-    /// ones (s > 0 and `|lambda_t + r u_t| <= s` at the last projection).
+    /// ones (s > 1e-6 max s and `|lambda_t + r u_t| <= s` at the last projection).
     pub max_slip: f64,
     pub max_stick_slip: f64,
     /// Smallest cosine between u_t and lambda_t over the sliding candidates
@@ -699,7 +701,19 @@ fn diagnostics<C: Communicator>(
                         f2 += f[i] * f[i];
                     }
                 }
-                (eq2, f2)
+                // The scale: the load, or the contact forces when the body is
+                // loaded through a prescribed displacement only.
+                let mut c2 = 0.0;
+                for i in 0..cs.len() {
+                    let w = cs.w[i];
+                    c2 += (w * st.stress_n[i]).powi(2);
+                    if p.tangential {
+                        for c in 0..d {
+                            c2 += (w * st.stress_t[i * d + c]).powi(2);
+                        }
+                    }
+                }
+                (eq2, f2.max(c2))
             })
         })
     })???;
@@ -709,12 +723,16 @@ fn diagnostics<C: Communicator>(
     let mut compl = 0.0;
     let mut excess = f64::NEG_INFINITY;
     let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    // Friction laws are checked where the bound is meaningful: s above 1e-6 of
+    // the largest (an open node's Coulomb bound is nu_f times round-off).
+    let max_bound = allreduce_max(world, bound.iter().fold(0.0, |a: f64, &b| a.max(b)));
+    let meaningful = |i: usize| !bound.is_empty() && bound[i] > 1e-6 * max_bound;
     let mut max_slip = 0.0f64;
     let mut max_stick_slip = 0.0f64;
     for i in 0..cs.len() {
         let slip = norm(&st.ut[i * d..(i + 1) * d]);
         max_slip = max_slip.max(slip);
-        if p.tangential && !st.slip[i] && !bound.is_empty() && bound[i] > 0.0 {
+        if p.tangential && !st.slip[i] && meaningful(i) {
             max_stick_slip = max_stick_slip.max(slip);
         }
     }
@@ -726,7 +744,7 @@ fn diagnostics<C: Communicator>(
             let ut = &st.ut[i * d..(i + 1) * d];
             let lt = &st.stress_t[i * d..(i + 1) * d];
             let (nu, nl) = (norm(ut), norm(lt));
-            if st.slip[i] && bound[i] > 0.0 && nu > 1e-6 * max_slip && nl > 0.0 {
+            if st.slip[i] && meaningful(i) && nu > 1e-6 * max_slip && nl > 0.0 {
                 let dot: f64 = ut.iter().zip(lt).map(|(a, b)| a * b).sum();
                 min_cos = min_cos.min(dot / (nu * nl));
             }
@@ -769,7 +787,7 @@ fn diagnostics<C: Communicator>(
         max_abs_gap,
         complementarity: compl,
         max_friction_excess,
-        max_bound: allreduce_max(world, bound.iter().fold(0.0, |a: f64, &b| a.max(b))),
+        max_bound,
         max_slip,
         max_stick_slip,
         min_slip_alignment,
