@@ -33,7 +33,7 @@ pub const HELP: &[(&str, &str, &str)] = &[
     ("-ubr_fp_rtol EPS", "1e-4", "fixed-point tolerance eps_fp of (5.7) (CF-FP)"),
     ("-ubr_fp_max_it N", "100", "maximum fixed-point iterations (CF-FP)"),
     ("-ubr_monitor", "false", "print one line per UBR iteration"),
-    ("-ubr_inner_rtol_factor F", "1e-2", "iterative solvers: inner KSP rtol = clamp(F x last relative change, 1e-3 ubr_rtol, F) (inexact Uzawa; a given -ksp_rtol wins)"),
+    ("-ubr_inner_rtol_factor F", "0.1", "iterative solvers (inexact Uzawa): each inner solve reduces the residual of the previous iterate b - A u^{k-1} by F (a given -ksp_rtol wins)"),
     ("-ssn_r R", "1e3 E", "SSN-C parameter r of (7.1)"),
     ("-ssn_initial_shift ux,uy[,uz]", "0", "SSN-C initial guess u^0, the same at every node (the paper: 0,-0.01 for the floating Hertz body)"),
     ("-ssn_max_it N", "100", "maximum SSN-C iterations"),
@@ -415,7 +415,7 @@ impl Settings {
             fp_max_it: get_usize("-ubr_fp_max_it", 100)?,
             monitor: get_bool("-ubr_monitor")?,
             inner_rtol_factor: {
-                let f = get_f64("-ubr_inner_rtol_factor")?.unwrap_or(1e-2);
+                let f = get_f64("-ubr_inner_rtol_factor")?.unwrap_or(0.1);
                 if !(f > 0.0 && f < 1.0) {
                     return bad(format!(
                         "option -ubr_inner_rtol_factor: {f} is not in (0, 1)"

@@ -110,6 +110,10 @@ fn default_solver_options(dim: usize) -> Result<(), Error> {
             // Converge on the true residual, not the preconditioned one.
             options::set_default("-ksp_norm_type", "unpreconditioned")?;
         }
+        // Measure the inner tolerance against the initial residual b - A u^{k-1}:
+        // the change that this UBR iteration brings, not the whole load (which
+        // a prescribed displacement can make huge).
+        options::set_default("-ksp_converged_use_initial_residual_norm", "1")?;
     }
     Ok(())
 }

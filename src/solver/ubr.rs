@@ -113,7 +113,7 @@ pub struct UbrControl {
     pub residual_tol: f64,
     pub max_it: usize,
     pub monitor: bool,
-    /// Inexact Uzawa: inner KSP rtol = clamp(factor x last (4.16) change, 1e-3 eps, factor).
+    /// Inexact Uzawa: inner KSP rtol relative to the initial residual b - A u^{k-1}.
     pub inner_rtol_factor: f64,
 }
 
@@ -191,16 +191,13 @@ pub fn ubr<C: Communicator>(
                 }
             })?;
         }
-        if problem.adaptive_inner {
-            // Loose early, tight at the end: the solve starts from u^{k-1}, so
-            // it only has to resolve the change, which shrinks with (4.16).
-            let last = if out.criterion.is_finite() {
-                out.criterion
-            } else {
-                1.0
-            };
-            let f = ctl.inner_rtol_factor;
-            problem.ksp.set_rtol((f * last).clamp(1e-3 * ctl.rtol, f))?;
+        if problem.adaptive_inner && k == 0 {
+            // Inexact Uzawa: each solve starts from u^{k-1} and reduces the
+            // residual b - A u^{k-1}, i.e. the change this iteration brings,
+            // by the factor below (-ksp_converged_use_initial_residual_norm):
+            // loose in absolute terms early, tight at the end as the changes
+            // shrink with (4.16).
+            problem.ksp.set_rtol(ctl.inner_rtol_factor)?;
         }
         let its = {
             let _e = events.solve.begin();
