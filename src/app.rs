@@ -235,6 +235,10 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     };
     let diag = diagnostics(world, &problem, &state, &check_bound)?;
     let all_rows = report::gather_rows(world, &rows);
+    // Peak resident memory (VmHWM) of each rank: rank 0's, the largest, the sum.
+    let hwm = peak_memory_mb();
+    let mem_max = allreduce_max(world, hwm);
+    let [mem_sum] = allreduce_sum(world, [hwm]);
     let time_total = t_start.elapsed().as_secs_f64();
     let mut write_error: Option<Error> = None;
     if root {
@@ -276,6 +280,7 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
             hertz: hertz.as_ref(),
             times: &times,
             diag: &diag,
+            mem: (hwm, mem_max, mem_sum),
         });
         if let Some(path) = &settings.contact_output {
             if let Err(e) =
@@ -356,6 +361,9 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                 .num("max_stick_slip", diag.max_stick_slip)
                 .num("min_slip_alignment", diag.min_slip_alignment)
                 .num("matrix_mallocs", problem.matrix_mallocs)
+                .num("peak_memory_rank0_mb", hwm)
+                .num("peak_memory_max_mb", mem_max)
+                .num("peak_memory_total_mb", mem_sum)
                 .int_array("inner_iterations", &state.inner_iterations);
             if let Err(e) = report::write_atomic("-report", path, j.render().as_bytes()) {
                 write_error = write_error.or(Some(e));
@@ -373,6 +381,20 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
         return Err(Error::NotConverged(solved.failure(&settings)));
     }
     Ok(())
+}
+
+/// This process's peak resident memory in MiB (VmHWM from /proc/self/status; 0 if unknown).
+fn peak_memory_mb() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<f64>().ok())
+        })
+        .map(|kb| kb / 1024.0)
+        .unwrap_or(0.0)
 }
 
 /// The comparators, whose iterations have no UBR stopping test.
@@ -810,6 +832,8 @@ struct Summary<'a> {
     hertz: Option<&'a report::HertzComparison>,
     times: &'a Times,
     diag: &'a Diagnostics,
+    /// Peak memory: rank 0, largest rank, all ranks (MiB).
+    mem: (f64, f64, f64),
 }
 
 fn print_summary(m: &Summary) {
@@ -965,5 +989,9 @@ fn print_summary(m: &Summary) {
     println!(
         "  time (s)        mesh {:.3}, partition {:.3}, assembly {:.3}, factorization {:.3}, iterations {:.3}, total {:.3}",
         t.mesh, t.partition, t.assembly, t.factorization, t.iterations, t.total
+    );
+    println!(
+        "  memory (MiB)    peak {:.0} on rank 0, {:.0} on the largest rank, {:.0} in all",
+        m.mem.0, m.mem.1, m.mem.2
     );
 }

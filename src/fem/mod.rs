@@ -4,6 +4,8 @@
 //! Global degrees of freedom are node-major: dof `dim * node + component`, with
 //! the renumbered (rank-contiguous) global node numbers of `LocalMesh`.
 
+pub mod stress;
+
 use crate::error::{bad, Error};
 use crate::mesh::distribute::LocalMesh;
 use crate::options::{DirichletBc, Settings, TractionBc};

@@ -123,6 +123,11 @@ impl Drop for Petsc {
     }
 }
 
+/// PETSc's self communicator.
+pub fn comm_self() -> sys::MPI_Comm {
+    unsafe { sys::ubr_comm_self() }
+}
+
 /// PETSc's world communicator (set from rsmpi's world at `Petsc::init`).
 pub fn comm_world() -> sys::MPI_Comm {
     unsafe { sys::PETSC_COMM_WORLD }

@@ -507,3 +507,69 @@ impl Snes {
         Ok((its as usize, lits as usize))
     }
 }
+
+/// Gathers chosen entries of a distributed vector into a local sequential one
+/// (e.g. the displacement at the ghost nodes of a rank's cells).
+pub struct Gather {
+    scatter: sys::VecScatter,
+    pub local: Vector,
+}
+
+impl Drop for Gather {
+    fn drop(&mut self) {
+        unsafe {
+            sys::VecScatterDestroy(&mut self.scatter);
+        }
+    }
+}
+
+impl Gather {
+    /// Entries `indices` (global) of vectors laid out like `like`.
+    pub fn new(like: &Vector, indices: &[sys::PetscInt]) -> Result<Gather, Error> {
+        let n = indices.len() as sys::PetscInt;
+        let mut local: sys::Vec = std::ptr::null_mut();
+        let mut from: sys::IS = std::ptr::null_mut();
+        let mut scatter: sys::VecScatter = std::ptr::null_mut();
+        unsafe {
+            check(sys::VecCreateSeq(super::comm_self(), n, &mut local))?;
+            let local = Vector { raw: local };
+            check(sys::ISCreateGeneral(
+                super::comm_self(),
+                n,
+                indices.as_ptr(),
+                sys::PETSC_COPY_VALUES,
+                &mut from,
+            ))?;
+            let r = sys::VecScatterCreate(
+                like.raw,
+                from,
+                local.raw,
+                std::ptr::null_mut(),
+                &mut scatter,
+            );
+            sys::ISDestroy(&mut from);
+            check(r)?;
+            Ok(Gather { scatter, local })
+        }
+    }
+
+    /// Copies the chosen entries of `x` into `self.local` (collective).
+    pub fn gather(&self, x: &Vector) -> Result<(), Error> {
+        unsafe {
+            check(sys::VecScatterBegin(
+                self.scatter,
+                x.raw,
+                self.local.raw,
+                sys::INSERT_VALUES,
+                sys::SCATTER_FORWARD,
+            ))?;
+            check(sys::VecScatterEnd(
+                self.scatter,
+                x.raw,
+                self.local.raw,
+                sys::INSERT_VALUES,
+                sys::SCATTER_FORWARD,
+            ))
+        }
+    }
+}
