@@ -7,11 +7,13 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-PACKAGES=(petsc-dev libopenmpi-dev openmpi-bin libclang-dev pkg-config libopenblas0-serial gmsh python3-meshio)
+PACKAGES=(petsc-dev libopenmpi-dev openmpi-bin libclang-dev pkg-config libopenblas0-serial gmsh fonts-dejavu-core)
+# Independent readers for the output tests (.vtu, .pvtu): Debian's meshio and VTK.
+TEST_PACKAGES=(python3-meshio python3-vtk9)
 
 install_packages() {
   local missing=()
-  for p in "${PACKAGES[@]}"; do
+  for p in "$@"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   [ ${#missing[@]} -eq 0 ] && return 0
@@ -40,7 +42,8 @@ build() {
   [ -x target/release/ubr-petsc ] || { echo "run.sh: build failed" >&2; exit 1; }
 }
 
-install_packages
+install_packages "${PACKAGES[@]}"
+[ "${1:-run}" = test ] && install_packages "${TEST_PACKAGES[@]}"
 setup_env
 case "${1:-run}" in
   run)

@@ -5,7 +5,7 @@ use crate::contact::ContactSet;
 use crate::error::{bad, Error};
 use crate::mesh::{self, distribute, Mesh};
 use crate::options::{self, Friction, MeshSource, Settings, TrescaBound};
-use crate::petsc::{self, LogEvent, LogStage};
+use crate::petsc::{self, sys, LogEvent, LogStage};
 use crate::report::{self, ContactRow, Json};
 use crate::solver::{
     allreduce_count, allreduce_max, allreduce_sum, cf_fp, snesvi, ssn, ubr, ContactTerms, Problem,
@@ -219,6 +219,7 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                 lambda_n: state.stress_n[i] + 0.0,
                 lambda_t: lt.map(|v| v + 0.0),
                 status,
+                bound: solved.bound.get(i).copied().unwrap_or(0.0),
             }
         })
         .collect();
@@ -282,6 +283,29 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
             diag: &diag,
             mem: (hwm, mem_max, mem_sum),
         });
+        if let Some(path) = &settings.plot_contact {
+            if let Err(e) = plot_contact(path, &settings, &all_rows, d, &n, e_star) {
+                write_error = write_error.or(Some(e));
+            }
+        }
+        if let Some(path) = &settings.plot_history {
+            let its: Vec<f64> = (0..state.history.len()).map(|k| k as f64).collect();
+            let change: Vec<f64> = state.history.iter().map(|h| h[0]).collect();
+            let residual: Vec<f64> = state.history.iter().map(|h| h[1]).collect();
+            let title = format!("{}: convergence history", solved.name);
+            if let Err(e) = report::plot::plot_history(
+                std::path::Path::new(path),
+                &title,
+                &its,
+                &[
+                    ("relative change (4.16)/(5.6)", &change),
+                    ("constraint residual ||Bu - phi||", &residual),
+                ],
+            ) {
+                write_error =
+                    write_error.or(Some(Error::BadInput(format!("option -plot_history: {e}"))));
+            }
+        }
         if let Some(path) = &settings.contact_output {
             if let Err(e) =
                 report::write_atomic("-contact_output", path, report::csv(&all_rows).as_bytes())
@@ -370,8 +394,14 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
             }
         }
     }
+    if let Some(path) = &settings.vtk {
+        let rows = report::broadcast_rows(world, &all_rows);
+        if let Err(e) = write_vtk(world, path, &settings, &local, &problem, &state, &rows) {
+            write_error = write_error.or(Some(e));
+        }
+    }
     drop(guard);
-    // Make a write failure on rank 0 collective.
+    // Make a write failure on any rank collective.
     let failed = allreduce_max(world, if write_error.is_some() { 1.0 } else { 0.0 });
     if failed > 0.0 {
         return Err(write_error
@@ -379,6 +409,219 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     }
     if !solved.converged {
         return Err(Error::NotConverged(solved.failure(&settings)));
+    }
+    Ok(())
+}
+
+/// `-plot_contact`: pressure, and with friction |lambda_t| and the bound s,
+/// against the distance along the surface from the contact centre (the
+/// candidate with the smallest gap, or -reference_center), with the Hertz curve.
+fn plot_contact(
+    path: &str,
+    s: &Settings,
+    rows: &[ContactRow],
+    d: usize,
+    n: &[f64],
+    e_star: f64,
+) -> Result<(), Error> {
+    use report::plot::{plot_lines, Series, Style};
+    let center: Vec<f64> = match s.reference.as_ref().and_then(|r| r.center.clone()) {
+        Some(c) => c,
+        None => rows
+            .iter()
+            .min_by(|a, b| a.gap.total_cmp(&b.gap))
+            .map(|r| r.x[..d].to_vec())
+            .unwrap_or(vec![0.0; d]),
+    };
+    let dist = |r: &ContactRow| {
+        let dx: Vec<f64> = (0..d).map(|k| r.x[k] - center[k]).collect();
+        let dn: f64 = dx.iter().zip(n).map(|(a, b)| a * b).sum();
+        dx.iter()
+            .zip(n)
+            .map(|(a, b)| (a - dn * b).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    order.sort_by(|&a, &b| dist(&rows[a]).total_cmp(&dist(&rows[b])));
+    let x: Vec<f64> = order.iter().map(|&i| dist(&rows[i])).collect();
+    let p: Vec<f64> = order.iter().map(|&i| rows[i].lambda_n).collect();
+    let lt: Vec<f64> = order
+        .iter()
+        .map(|&i| rows[i].lambda_t.iter().map(|v| v * v).sum::<f64>().sqrt())
+        .collect();
+    let bound: Vec<f64> = order.iter().map(|&i| rows[i].bound).collect();
+    let mut series = vec![Series {
+        label: "contact pressure lambda_n",
+        x: &x,
+        y: &p,
+        style: Style::Points,
+    }];
+    let friction = s.friction != Friction::None;
+    if friction {
+        series.push(Series {
+            label: "|tangential traction lambda_t|",
+            x: &x,
+            y: &lt,
+            style: Style::Points,
+        });
+        series.push(Series {
+            label: "friction bound s",
+            x: &x,
+            y: &bound,
+            style: Style::Line,
+        });
+    }
+    let (hx, hy): (Vec<f64>, Vec<f64>) = match &s.reference {
+        Some(r) => {
+            let xmax = x.last().copied().unwrap_or(0.0);
+            (0..=400)
+                .map(|k| {
+                    let xi = xmax * k as f64 / 400.0;
+                    (
+                        xi,
+                        report::hertz_pressure(d, r.force, r.radius, e_star, xi).0,
+                    )
+                })
+                .unzip()
+        }
+        None => (Vec::new(), Vec::new()),
+    };
+    if s.reference.is_some() {
+        series.push(Series {
+            label: "Hertz pressure",
+            x: &hx,
+            y: &hy,
+            style: Style::DashedLine,
+        });
+    }
+    let title = format!(
+        "Contact stresses ({}), {} candidates",
+        friction_name(s.friction),
+        rows.len()
+    );
+    plot_lines(
+        std::path::Path::new(path),
+        &title,
+        "distance from the contact centre, orthogonal to n",
+        "stress",
+        &series,
+        false,
+    )
+    .map_err(|e| Error::BadInput(format!("option -plot_contact: {e}")))
+}
+
+/// `-vtk PATH.pvtu`: every rank writes the cells it owns (those whose smallest
+/// global node it owns) with all their nodes; rank 0 writes the index.
+fn write_vtk<C: Communicator>(
+    world: &C,
+    path: &str,
+    s: &Settings,
+    local: &distribute::LocalMesh,
+    p: &Problem,
+    st: &ubr::UbrState,
+    rows: &[ContactRow],
+) -> Result<(), Error> {
+    use report::vtk::{self, Field, Piece};
+    let d = local.dim;
+    let k = d + 1;
+    let rank = world.rank() as usize;
+    let bad_path =
+        |e: std::io::Error| Error::BadInput(format!("option -vtk: cannot write '{path}': {e}"));
+    let target = std::path::Path::new(path);
+    let stem_path = target.with_extension("");
+    let stem = stem_path
+        .file_name()
+        .map(|x| x.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "ubr".into());
+    let dir = stem_path
+        .parent()
+        .filter(|x| !x.as_os_str().is_empty())
+        .unwrap_or(std::path::Path::new("."))
+        .to_path_buf();
+    let pvtu = dir.join(format!("{stem}.pvtu"));
+    // Displacement at every local node (owned and ghost).
+    let idx: Vec<sys::PetscInt> = local
+        .node_global
+        .iter()
+        .flat_map(|&g| (0..d).map(move |c| (g * d + c) as sys::PetscInt))
+        .collect();
+    let gather = petsc::Gather::new(&st.u, &idx)?;
+    gather.gather(&st.u)?;
+    let u_local: Vec<f64> = gather.local.read(|v| v.to_vec())?;
+    // Cells this rank writes.
+    let mine: Vec<usize> = (0..local.num_cells())
+        .filter(|&c| {
+            let cell = &local.cells[c * k..(c + 1) * k];
+            let gmin = cell
+                .iter()
+                .map(|&v| local.node_global[v])
+                .min()
+                .unwrap_or(0);
+            gmin >= local.owned_start && gmin < local.owned_start + local.owned_count
+        })
+        .collect();
+    let mut cells = Vec::with_capacity(mine.len() * k);
+    let mut stress = Vec::with_capacity(mine.len() * 9);
+    let mut von_mises = Vec::with_capacity(mine.len());
+    let mut xs = vec![0.0; k * d];
+    let mut us = vec![0.0; k * d];
+    for &c in &mine {
+        let cell = &local.cells[c * k..(c + 1) * k];
+        for (a, &v) in cell.iter().enumerate() {
+            xs[a * d..(a + 1) * d].copy_from_slice(local.x(v));
+            us[a * d..(a + 1) * d].copy_from_slice(&u_local[v * d..(v + 1) * d]);
+        }
+        cells.extend_from_slice(cell);
+        let (sig, vm) = crate::fem::stress::cell_stress(d, &xs, &us, s.young, s.nu, s.plane_stress);
+        stress.extend_from_slice(&sig);
+        von_mises.push(vm);
+    }
+    let ranks = vec![rank as i32; mine.len()];
+    // Contact fields at the nodes (-1 status: not a candidate).
+    let by_tag: std::collections::HashMap<u64, &ContactRow> =
+        rows.iter().map(|r| (r.node, r)).collect();
+    let npts = local.num_local_nodes();
+    let mut pressure = vec![0.0; npts];
+    let mut traction = vec![0.0; npts * 3];
+    let mut gap = vec![0.0; npts];
+    let mut status = vec![-1i32; npts];
+    let mut disp = vec![0.0; npts * 3];
+    for v in 0..npts {
+        disp[v * 3..v * 3 + d].copy_from_slice(&u_local[v * d..(v + 1) * d]);
+        if let Some(r) = by_tag.get(&local.node_tag[v]) {
+            pressure[v] = r.lambda_n;
+            traction[v * 3..v * 3 + 3].copy_from_slice(&r.lambda_t);
+            gap[v] = r.gap;
+            status[v] = r.status as i32;
+        }
+    }
+    let _ = p;
+    let piece = Piece {
+        dim: d,
+        coords: &local.coords,
+        cells: &cells,
+        point_data: vec![
+            Field::Vector("displacement", &disp),
+            Field::Scalar("contact_pressure", &pressure),
+            Field::Vector("tangential_traction", &traction),
+            Field::Scalar("gap", &gap),
+            Field::Int("contact_status", &status),
+        ],
+        cell_data: vec![
+            Field::Tensor("stress", &stress),
+            Field::Scalar("von_mises", &von_mises),
+            Field::Int("rank", &ranks),
+        ],
+    };
+    let name = vtk::piece_file_name(&stem, rank);
+    vtk::write_vtu(&dir.join(&name), &piece).map_err(bad_path)?;
+    if rank == 0 {
+        let names: Vec<String> = (0..world.size() as usize)
+            .map(|r| vtk::piece_file_name(&stem, r))
+            .collect();
+        vtk::write_pvtu(&pvtu, &names, &piece.point_fields(), &piece.cell_fields())
+            .map_err(bad_path)?;
     }
     Ok(())
 }

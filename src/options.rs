@@ -43,6 +43,9 @@ pub const HELP: &[(&str, &str, &str)] = &[
     ("-reference_center x,y[,z]", "candidate with the smallest gap", "centre of the Hertz contact"),
     ("-report FILE.json", "none", "write a JSON report"),
     ("-contact_output FILE.csv", "none", "write the contact nodes (one row per candidate)"),
+    ("-vtk PATH.pvtu", "none", "ParaView output: PATH.pvtu and one PATH_RANK.vtu piece per rank (displacement, stress, von Mises, rank, contact fields)"),
+    ("-plot_contact FILE.png", "none", "plot the contact pressure (and tangential traction, friction bound, Hertz) along the surface"),
+    ("-plot_history FILE.png", "none", "plot the UBR change (4.16)/(5.6) and constraint residual per iteration"),
     ("-help", "", "this list (PETSc's solver options are listed when a scene is given too)"),
 ];
 
@@ -157,6 +160,9 @@ pub struct Settings {
     pub reference: Option<HertzReference>,
     pub report: Option<String>,
     pub contact_output: Option<String>,
+    pub vtk: Option<String>,
+    pub plot_contact: Option<String>,
+    pub plot_history: Option<String>,
 }
 
 fn get(name: &str) -> Result<Option<String>, Error> {
@@ -451,6 +457,35 @@ impl Settings {
         };
         let report = get_word("-report")?;
         let contact_output = get_word("-contact_output")?;
+        let vtk = get_word("-vtk")?;
+        let plot_contact = get_word("-plot_contact")?;
+        let plot_history = get_word("-plot_history")?;
+        // Output paths are checked before any work: a run that cannot write
+        // its results fails at once, not after the solve.
+        for (opt, path) in [
+            ("-report", &report),
+            ("-contact_output", &contact_output),
+            ("-vtk", &vtk),
+            ("-plot_contact", &plot_contact),
+            ("-plot_history", &plot_history),
+        ] {
+            if let Some(path) = path {
+                let p = std::path::Path::new(path);
+                let dir = p
+                    .parent()
+                    .filter(|d| !d.as_os_str().is_empty())
+                    .unwrap_or(std::path::Path::new("."));
+                if !dir.is_dir() {
+                    return bad(format!(
+                        "option {opt}: directory '{}' of '{path}' does not exist",
+                        dir.display()
+                    ));
+                }
+                if p.is_dir() {
+                    return bad(format!("option {opt}: '{path}' is a directory"));
+                }
+            }
+        }
         let friction_coefficient = get_f64("-friction_coefficient")?.unwrap_or(0.0);
         if friction_coefficient < 0.0 {
             return bad(format!(
@@ -517,6 +552,9 @@ impl Settings {
             reference,
             report,
             contact_output,
+            vtk,
+            plot_contact,
+            plot_history,
         })
     }
 }

@@ -5,6 +5,9 @@
 //! by the node's tag in the input mesh. Files are written atomically
 //! (temporary file in the same directory, then rename).
 
+pub mod plot;
+pub mod vtk;
+
 use crate::error::Error;
 use crate::options::HertzReference;
 use mpi::traits::*;
@@ -12,7 +15,7 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 
 /// Number of f64 values per contact row on the wire.
-pub const ROW_LEN: usize = 15;
+pub const ROW_LEN: usize = 16;
 
 /// One contact candidate, as written to the CSV.
 #[derive(Clone, Debug, Default)]
@@ -27,6 +30,8 @@ pub struct ContactRow {
     pub lambda_t: [f64; 3],
     /// 0 open, 1 contact, 2 stick, 3 slip.
     pub status: u8,
+    /// The friction bound s (0 without friction; not in the CSV).
+    pub bound: f64,
 }
 
 impl ContactRow {
@@ -43,6 +48,7 @@ impl ContactRow {
         out.push(self.lambda_n);
         out.extend_from_slice(&self.lambda_t);
         out.push(self.status as f64);
+        out.push(self.bound);
     }
     fn unpack(v: &[f64]) -> ContactRow {
         ContactRow {
@@ -55,6 +61,7 @@ impl ContactRow {
             lambda_n: v[10],
             lambda_t: [v[11], v[12], v[13]],
             status: v[14] as u8,
+            bound: v[15],
         }
     }
 }
@@ -78,6 +85,22 @@ pub fn gather_rows<C: Communicator>(world: &C, rows: &[ContactRow]) -> Vec<Conta
         root.send(&buf[..]);
         Vec::new()
     }
+}
+
+/// Sends rank 0's rows to every rank (for outputs every rank writes).
+pub fn broadcast_rows<C: Communicator>(world: &C, rows: &[ContactRow]) -> Vec<ContactRow> {
+    let root = world.process_at_rank(0);
+    let mut buf = Vec::new();
+    if world.rank() == 0 {
+        for r in rows {
+            r.pack(&mut buf);
+        }
+    }
+    let mut len = [buf.len() as u64];
+    root.broadcast_into(&mut len[..]);
+    buf.resize(len[0] as usize, 0.0);
+    root.broadcast_into(&mut buf[..]);
+    buf.chunks(ROW_LEN).map(ContactRow::unpack).collect()
 }
 
 /// The Hertz comparison, computed on rank 0 from the gathered rows.

@@ -49,6 +49,8 @@ pub struct UbrState {
     rhs: Vector,
     /// Inner (KSP) iterations of every outer iteration so far.
     pub inner_iterations: Vec<usize>,
+    /// (4.16)/(5.6) change and constraint residual of every outer iteration so far.
+    pub history: Vec<[f64; 2]>,
 }
 
 impl UbrState {
@@ -74,6 +76,7 @@ impl UbrState {
             u,
             u_prev: vec![0.0; problem.is_dirichlet.len()],
             inner_iterations: Vec::new(),
+            history: Vec::new(),
         })
     }
 
@@ -287,6 +290,7 @@ pub fn ubr<C: Communicator>(
             0.0
         };
         out.residual = res2.sqrt();
+        state.history.push([out.criterion, out.residual]);
         out.contact = ncontact as usize;
         out.stick = nstick as usize;
         out.slip = nslip as usize;

@@ -1,0 +1,1017 @@
+//! ParaView output: one `.vtu` piece per MPI rank plus a `.pvtu` index.
+//!
+//! Each rank writes its own part of the mesh with [`write_vtu`] (an XML
+//! `UnstructuredGrid` of triangles in 2D or linear tetrahedra in 3D), and
+//! rank 0 writes the `.pvtu` index with [`write_pvtu`], which names the pieces
+//! by file names relative to the index's directory and declares the same
+//! fields. ParaView opens the `.pvtu` and shows the whole mesh.
+//!
+//! # Format
+//! The XML is written by hand: the format is small, and the one crate for it
+//! (`vtkio` 0.6) can read but not write a `PUnstructuredGrid` index (its writer
+//! loads the pieces and inlines them). Arrays are stored inline as `binary`
+//! (base64 of a little-endian `UInt64` byte count followed by the
+//! little-endian values, header and values in one base64 stream, no
+//! compression), the encoding that VTK/ParaView, meshio and other Python
+//! readers all accept. Points are `Float64` with 3 components (2D points get
+//! z = 0), connectivity and offsets `Int64`, cell types `UInt8`, real fields
+//! `Float64` and integer fields `Int32`.
+//!
+//! # Fields
+//! * [`Field::Scalar`]: one value per entry.
+//! * [`Field::Vector`]: 3 components per entry; in 2D, 2 components per entry
+//!   are also accepted and padded with a zero z component.
+//! * [`Field::Tensor`]: 9 components per entry (row-major 3x3); in 2D, 4
+//!   components per entry (row-major 2x2) are also accepted and embedded in
+//!   the upper-left block of a 3x3 tensor with zeros elsewhere.
+//! * [`Field::Int`]: one `i32` per entry (a rank, a contact status).
+//!
+//! Point fields have one entry per point, cell fields one per cell.
+//!
+//! # Errors
+//! Nothing is written unless the whole piece is valid. Inconsistent sizes
+//! (coordinates, connectivity, a field's length, a point index out of range)
+//! give an error of kind [`std::io::ErrorKind::InvalidInput`]; a NaN or an
+//! infinity in the coordinates or a field gives
+//! [`std::io::ErrorKind::InvalidData`] naming the field and the entry. A
+//! failure while writing leaves no file behind: files are written to a
+//! temporary file in the same directory, then renamed.
+
+use std::io::{self, Write as _};
+use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// VTK cell type of a linear triangle.
+const VTK_TRIANGLE: u8 = 5;
+/// VTK cell type of a linear tetrahedron.
+const VTK_TETRA: u8 = 10;
+
+/// What a field holds per entry, as declared in the `.pvtu` index.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FieldKind {
+    /// One `f64`.
+    Scalar,
+    /// Three `f64` (x, y, z).
+    Vector,
+    /// Nine `f64` (row-major 3x3).
+    Tensor,
+    /// One `i32`.
+    Int,
+}
+
+impl FieldKind {
+    /// Number of components per entry in the file.
+    pub fn components(self) -> usize {
+        match self {
+            FieldKind::Scalar | FieldKind::Int => 1,
+            FieldKind::Vector => 3,
+            FieldKind::Tensor => 9,
+        }
+    }
+
+    fn vtk_type(self) -> &'static str {
+        match self {
+            FieldKind::Int => "Int32",
+            _ => "Float64",
+        }
+    }
+}
+
+/// A named array attached to the points or the cells of a [`Piece`].
+#[derive(Clone, Copy, Debug)]
+pub enum Field<'a> {
+    /// One value per entry.
+    Scalar(&'a str, &'a [f64]),
+    /// 3 components per entry (or `dim` = 2 components, padded with z = 0).
+    Vector(&'a str, &'a [f64]),
+    /// 9 components per entry, row-major 3x3 (or, in 2D, 4 components,
+    /// row-major 2x2, embedded in a 3x3 tensor).
+    Tensor(&'a str, &'a [f64]),
+    /// One integer per entry.
+    Int(&'a str, &'a [i32]),
+}
+
+impl<'a> Field<'a> {
+    /// The field's name.
+    pub fn name(&self) -> &'a str {
+        match *self {
+            Field::Scalar(n, _) | Field::Vector(n, _) | Field::Tensor(n, _) | Field::Int(n, _) => n,
+        }
+    }
+
+    /// The field's kind.
+    pub fn kind(&self) -> FieldKind {
+        match self {
+            Field::Scalar(..) => FieldKind::Scalar,
+            Field::Vector(..) => FieldKind::Vector,
+            Field::Tensor(..) => FieldKind::Tensor,
+            Field::Int(..) => FieldKind::Int,
+        }
+    }
+}
+
+/// One rank's part of the mesh with its fields.
+#[derive(Clone, Debug)]
+pub struct Piece<'a> {
+    /// 2 (triangles) or 3 (tetrahedra).
+    pub dim: usize,
+    /// `dim` values per point (2D points are padded with z = 0 in the file).
+    pub coords: &'a [f64],
+    /// `dim + 1` point indices (into this piece's points) per cell.
+    pub cells: &'a [usize],
+    /// One entry per point each.
+    pub point_data: Vec<Field<'a>>,
+    /// One entry per cell each.
+    pub cell_data: Vec<Field<'a>>,
+}
+
+impl<'a> Piece<'a> {
+    /// Number of points (0 if `dim` is not 2 or 3).
+    pub fn num_points(&self) -> usize {
+        match self.dim {
+            2 | 3 => self.coords.len() / self.dim,
+            _ => 0,
+        }
+    }
+
+    /// Number of cells (0 if `dim` is not 2 or 3).
+    pub fn num_cells(&self) -> usize {
+        match self.dim {
+            2 | 3 => self.cells.len() / (self.dim + 1),
+            _ => 0,
+        }
+    }
+
+    /// Names and kinds of the point fields, as [`write_pvtu`] wants them.
+    pub fn point_fields(&self) -> Vec<(&'a str, FieldKind)> {
+        self.point_data
+            .iter()
+            .map(|f| (f.name(), f.kind()))
+            .collect()
+    }
+
+    /// Names and kinds of the cell fields, as [`write_pvtu`] wants them.
+    pub fn cell_fields(&self) -> Vec<(&'a str, FieldKind)> {
+        self.cell_data
+            .iter()
+            .map(|f| (f.name(), f.kind()))
+            .collect()
+    }
+}
+
+/// The conventional file name of rank `rank`'s piece: `{stem}_{rank}.vtu`.
+pub fn piece_file_name(stem: &str, rank: usize) -> String {
+    format!("{stem}_{rank}.vtu")
+}
+
+/// Writes one `.vtu` piece (XML `UnstructuredGrid`). Atomic.
+pub fn write_vtu(path: &Path, piece: &Piece) -> io::Result<()> {
+    let bytes = vtu_bytes(piece)?;
+    write_atomic(path, &bytes)
+}
+
+/// Writes the `.pvtu` index naming the pieces (file names relative to the
+/// index's directory) and declaring the fields the pieces hold (same names,
+/// same kinds, same order). Atomic.
+pub fn write_pvtu(
+    path: &Path,
+    pieces: &[String],
+    point_fields: &[(&str, FieldKind)],
+    cell_fields: &[(&str, FieldKind)],
+) -> io::Result<()> {
+    let bytes = pvtu_bytes(pieces, point_fields, cell_fields)?;
+    write_atomic(path, &bytes)
+}
+
+/// The contents of a `.vtu` file for `piece`, after checking it.
+pub fn vtu_bytes(piece: &Piece) -> io::Result<Vec<u8>> {
+    let dim = piece.dim;
+    if dim != 2 && dim != 3 {
+        return Err(invalid_input(format!("dimension {dim} (want 2 or 3)")));
+    }
+    if !piece.coords.len().is_multiple_of(dim) {
+        return Err(invalid_input(format!(
+            "{} coordinates is not a multiple of the dimension {dim}",
+            piece.coords.len()
+        )));
+    }
+    let nv = dim + 1;
+    if !piece.cells.len().is_multiple_of(nv) {
+        return Err(invalid_input(format!(
+            "{} cell point indices is not a multiple of {nv}",
+            piece.cells.len()
+        )));
+    }
+    let np = piece.num_points();
+    let nc = piece.num_cells();
+    if let Some(&bad) = piece.cells.iter().find(|&&i| i >= np) {
+        return Err(invalid_input(format!(
+            "cell point index {bad} out of range ({np} points)"
+        )));
+    }
+    check_finite("point coordinates", piece.coords, 1)?;
+
+    let mut x = String::with_capacity(1024 + 40 * (np + nc));
+    x.push_str(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" \
+         byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <UnstructuredGrid>\n",
+    );
+    x.push_str(&format!(
+        "    <Piece NumberOfPoints=\"{np}\" NumberOfCells=\"{nc}\">\n"
+    ));
+
+    let pd = encode_fields("point", &piece.point_data, np, dim)?;
+    x.push_str("      <PointData>\n");
+    x.push_str(&pd);
+    x.push_str("      </PointData>\n");
+    let cd = encode_fields("cell", &piece.cell_data, nc, dim)?;
+    x.push_str("      <CellData>\n");
+    x.push_str(&cd);
+    x.push_str("      </CellData>\n");
+
+    let mut points = Vec::with_capacity(3 * np);
+    for p in piece.coords.chunks(dim) {
+        points.extend_from_slice(p);
+        if dim == 2 {
+            points.push(0.0);
+        }
+    }
+    x.push_str("      <Points>\n");
+    data_array(&mut x, "Points", "Float64", 3, &f64_bytes(&points));
+    x.push_str("      </Points>\n");
+
+    let connectivity: Vec<i64> = piece.cells.iter().map(|&i| i as i64).collect();
+    let offsets: Vec<i64> = (1..=nc).map(|c| (c * nv) as i64).collect();
+    let cell_type = if dim == 2 { VTK_TRIANGLE } else { VTK_TETRA };
+    x.push_str("      <Cells>\n");
+    data_array(
+        &mut x,
+        "connectivity",
+        "Int64",
+        1,
+        &i64_bytes(&connectivity),
+    );
+    data_array(&mut x, "offsets", "Int64", 1, &i64_bytes(&offsets));
+    data_array(&mut x, "types", "UInt8", 1, &vec![cell_type; nc]);
+    x.push_str("      </Cells>\n");
+    x.push_str("    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
+    Ok(x.into_bytes())
+}
+
+/// The contents of a `.pvtu` index, after checking the arguments.
+pub fn pvtu_bytes(
+    pieces: &[String],
+    point_fields: &[(&str, FieldKind)],
+    cell_fields: &[(&str, FieldKind)],
+) -> io::Result<Vec<u8>> {
+    if pieces.is_empty() {
+        return Err(invalid_input(
+            "a .pvtu index needs at least one piece".into(),
+        ));
+    }
+    for p in pieces {
+        if p.is_empty() || Path::new(p).is_absolute() {
+            return Err(invalid_input(format!(
+                "piece name '{p}': want a file name relative to the .pvtu's directory"
+            )));
+        }
+    }
+    check_unique("point", point_fields.iter().map(|f| f.0))?;
+    check_unique("cell", cell_fields.iter().map(|f| f.0))?;
+    let declare = |x: &mut String, fields: &[(&str, FieldKind)]| {
+        for (name, kind) in fields {
+            x.push_str(&format!(
+                "      <PDataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n",
+                kind.vtk_type(),
+                xml_escape(name),
+                kind.components()
+            ));
+        }
+    };
+    let mut x = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" \
+         byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  \
+         <PUnstructuredGrid GhostLevel=\"0\">\n",
+    );
+    x.push_str("    <PPointData>\n");
+    declare(&mut x, point_fields);
+    x.push_str("    </PPointData>\n    <PCellData>\n");
+    declare(&mut x, cell_fields);
+    x.push_str("    </PCellData>\n    <PPoints>\n");
+    x.push_str("      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n");
+    x.push_str("    </PPoints>\n");
+    for p in pieces {
+        x.push_str(&format!("    <Piece Source=\"{}\"/>\n", xml_escape(p)));
+    }
+    x.push_str("  </PUnstructuredGrid>\n</VTKFile>\n");
+    Ok(x.into_bytes())
+}
+
+/// Checks and encodes the `<DataArray>` elements of one `PointData` or
+/// `CellData` block (`n` entries per field).
+fn encode_fields(location: &str, fields: &[Field], n: usize, dim: usize) -> io::Result<String> {
+    check_unique(location, fields.iter().map(|f| f.name()))?;
+    let mut x = String::new();
+    for f in fields {
+        let name = f.name();
+        let what = format!("{location} field '{name}'");
+        let bad_len = |len: usize, want: &str| {
+            invalid_input(format!(
+                "{what}: {len} values for {n} {location}s (want {want} per {location})"
+            ))
+        };
+        match *f {
+            Field::Scalar(_, v) => {
+                if v.len() != n {
+                    return Err(bad_len(v.len(), "1"));
+                }
+                check_finite(&what, v, 1)?;
+                data_array(&mut x, name, "Float64", 1, &f64_bytes(v));
+            }
+            Field::Vector(_, v) => {
+                let per = entry_width(v.len(), n, 3, if dim == 2 { 2 } else { 3 })
+                    .ok_or_else(|| bad_len(v.len(), if dim == 2 { "2 or 3" } else { "3" }))?;
+                check_finite(&what, v, per)?;
+                let mut out = Vec::with_capacity(3 * n);
+                for e in v.chunks(per.max(1)) {
+                    out.extend_from_slice(e);
+                    if per == 2 {
+                        out.push(0.0);
+                    }
+                }
+                data_array(&mut x, name, "Float64", 3, &f64_bytes(&out));
+            }
+            Field::Tensor(_, v) => {
+                let per = entry_width(v.len(), n, 9, if dim == 2 { 4 } else { 9 })
+                    .ok_or_else(|| bad_len(v.len(), if dim == 2 { "4 or 9" } else { "9" }))?;
+                check_finite(&what, v, per)?;
+                let mut out = Vec::with_capacity(9 * n);
+                for e in v.chunks(per.max(1)) {
+                    if per == 4 {
+                        out.extend_from_slice(&[e[0], e[1], 0.0, e[2], e[3], 0.0, 0.0, 0.0, 0.0]);
+                    } else {
+                        out.extend_from_slice(e);
+                    }
+                }
+                data_array(&mut x, name, "Float64", 9, &f64_bytes(&out));
+            }
+            Field::Int(_, v) => {
+                if v.len() != n {
+                    return Err(bad_len(v.len(), "1"));
+                }
+                let bytes: Vec<u8> = v.iter().flat_map(|i| i.to_le_bytes()).collect();
+                data_array(&mut x, name, "Int32", 1, &bytes);
+            }
+        }
+    }
+    Ok(x)
+}
+
+/// Components per entry of a field of `len` values over `n` entries, if it
+/// is `full` or `short`.
+fn entry_width(len: usize, n: usize, full: usize, short: usize) -> Option<usize> {
+    if len == full * n {
+        Some(full)
+    } else if len == short * n {
+        Some(short)
+    } else {
+        None
+    }
+}
+
+fn check_finite(what: &str, v: &[f64], per: usize) -> io::Result<()> {
+    match v.iter().position(|x| !x.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!(
+                "{what}: value {} at entry {} (component {}) is not finite",
+                v[i],
+                i / per.max(1),
+                i % per.max(1)
+            ),
+        )),
+    }
+}
+
+fn check_unique<'a>(location: &str, names: impl Iterator<Item = &'a str>) -> io::Result<()> {
+    let mut seen: Vec<&str> = Vec::new();
+    for n in names {
+        if n.is_empty() {
+            return Err(invalid_input(format!(
+                "a {location} field has an empty name"
+            )));
+        }
+        if seen.contains(&n) {
+            return Err(invalid_input(format!(
+                "two {location} fields are named '{n}'"
+            )));
+        }
+        seen.push(n);
+    }
+    Ok(())
+}
+
+fn invalid_input(msg: String) -> io::Error {
+    io::Error::new(io::ErrorKind::InvalidInput, msg)
+}
+
+/// Appends one inline binary `<DataArray>` holding `bytes`.
+fn data_array(x: &mut String, name: &str, ty: &str, components: usize, bytes: &[u8]) {
+    let mut block = Vec::with_capacity(8 + bytes.len());
+    block.extend_from_slice(&(bytes.len() as u64).to_le_bytes());
+    block.extend_from_slice(bytes);
+    x.push_str(&format!(
+        "        <DataArray type=\"{ty}\" Name=\"{}\" NumberOfComponents=\"{components}\" \
+         format=\"binary\">",
+        xml_escape(name)
+    ));
+    base64_into(x, &block);
+    x.push_str("</DataArray>\n");
+}
+
+fn f64_bytes(v: &[f64]) -> Vec<u8> {
+    v.iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+fn i64_bytes(v: &[i64]) -> Vec<u8> {
+    v.iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+/// Standard base64 (RFC 4648, with padding).
+fn base64_into(out: &mut String, data: &[u8]) {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    out.reserve(data.len().div_ceil(3) * 4);
+    for chunk in data.chunks(3) {
+        let b = [
+            chunk[0],
+            chunk.get(1).copied().unwrap_or(0),
+            chunk.get(2).copied().unwrap_or(0),
+        ];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        let sextet = |k: u32| ALPHABET[((n >> (18 - 6 * k)) & 63) as usize] as char;
+        out.push(sextet(0));
+        out.push(sextet(1));
+        out.push(if chunk.len() > 1 { sextet(2) } else { '=' });
+        out.push(if chunk.len() > 2 { sextet(3) } else { '=' });
+    }
+}
+
+fn xml_escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// Writes `bytes` to `path` atomically: a temporary file in the same
+/// directory, then a rename; on failure the temporary file is removed.
+fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path.file_name().ok_or_else(|| {
+        invalid_input(format!(
+            "cannot write '{}': not a file path",
+            path.display()
+        ))
+    })?;
+    let tmp = dir.join(format!(
+        ".{}.tmp{}-{}",
+        name.to_string_lossy(),
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    let result = (|| -> io::Result<()> {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    result.map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io::Error::new(e.kind(), format!("cannot write '{}': {e}", path.display()))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+    use std::process::Command;
+
+    /// A fresh empty directory for one test.
+    fn temp_dir(tag: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("ubr-vtk-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("create a temporary directory");
+        dir
+    }
+
+    /// The Python interpreter for the reader checks: `UBR_PYTHON` if set,
+    /// else Debian's `/usr/bin/python3` (where `apt-get install
+    /// python3-meshio python3-vtk9` puts the modules; a `python3` earlier on
+    /// the PATH, e.g. pyenv's, does not see them), else `python3`.
+    fn python() -> String {
+        if let Ok(p) = std::env::var("UBR_PYTHON") {
+            return p;
+        }
+        if Path::new("/usr/bin/python3").exists() {
+            return "/usr/bin/python3".into();
+        }
+        "python3".into()
+    }
+
+    /// Runs a Python script with arguments and parses its standard output
+    /// as JSON; panics with a clear message if the module is missing.
+    fn run_python(module: &str, package: &str, script: &str, args: &[&Path]) -> serde_json::Value {
+        let py = python();
+        let probe = Command::new(&py)
+            .arg("-c")
+            .arg(format!("import {module}"))
+            .output();
+        match probe {
+            Ok(o) if o.status.success() => {}
+            Ok(o) => panic!(
+                "these tests read the files back with Python's {module}, which {py} cannot \
+                 import: install Debian's {package} (apt-get install -y {package}) or set \
+                 UBR_PYTHON to an interpreter that has it.\n{}",
+                String::from_utf8_lossy(&o.stderr)
+            ),
+            Err(e) => panic!(
+                "these tests need a Python interpreter with {module} ({package}); cannot run \
+                 '{py}': {e}. Install Debian's python3 and {package}, or set UBR_PYTHON."
+            ),
+        }
+        let out = Command::new(&py)
+            .arg("-c")
+            .arg(script)
+            .args(args)
+            .output()
+            .expect("run python");
+        assert!(
+            out.status.success(),
+            "the {module} reader failed:\n{}\n{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+            panic!(
+                "reader output is not JSON ({e}):\n{}\n{}",
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
+            )
+        })
+    }
+
+    const MESHIO_DUMP: &str = r#"
+import json, sys
+import meshio, numpy
+# Values go as the hex of their little-endian float64 bytes: exact.
+h = lambda a: numpy.asarray(a, dtype="<f8").tobytes().hex()
+m = meshio.read(sys.argv[1])
+out = {
+    "points": h(m.points),
+    "cells": [[b.type, h(b.data)] for b in m.cells],
+    "point_data": {k: [str(v.dtype), list(v.shape), h(v)] for k, v in m.point_data.items()},
+    "cell_data": {k: [str(v[0].dtype), list(v[0].shape), h(v[0])] for k, v in m.cell_data.items()},
+}
+print(json.dumps(out))
+"#;
+
+    const VTK_DUMP: &str = r#"
+import json, sys
+import numpy, vtk
+from vtk.util.numpy_support import vtk_to_numpy
+# Values go as the hex of their little-endian float64 bytes: exact.
+h = lambda a: numpy.asarray(a, dtype="<f8").tobytes().hex()
+path = sys.argv[1]
+r = vtk.vtkXMLPUnstructuredGridReader() if path.endswith(".pvtu") else vtk.vtkXMLUnstructuredGridReader()
+errors = []
+def on_error(obj, ev):
+    errors.append(ev)
+r.AddObserver("ErrorEvent", on_error)
+r.GetExecutive().AddObserver("ErrorEvent", on_error)
+r.SetFileName(path)
+r.Update()
+if r.GetErrorCode() != 0 or errors:
+    sys.exit("vtk reported errors reading " + path)
+g = r.GetOutput()
+def arrays(d):
+    out = {}
+    for i in range(d.GetNumberOfArrays()):
+        a = d.GetArray(i)
+        out[a.GetName()] = [a.GetDataTypeAsString(), a.GetNumberOfComponents(), h(vtk_to_numpy(a))]
+    return out
+pts = g.GetPoints()
+cells = []
+for c in range(g.GetNumberOfCells()):
+    cell = g.GetCell(c)
+    cells.append([g.GetCellType(c), [cell.GetPointId(k) for k in range(cell.GetNumberOfPoints())]])
+print(json.dumps({
+    "num_points": g.GetNumberOfPoints(),
+    "num_cells": g.GetNumberOfCells(),
+    "points": h(vtk_to_numpy(pts.GetData())) if pts is not None else "",
+    "cells": cells,
+    "point_data": arrays(g.GetPointData()),
+    "cell_data": arrays(g.GetCellData()),
+}))
+"#;
+
+    /// Owned data of a test piece.
+    struct Data {
+        dim: usize,
+        coords: Vec<f64>,
+        cells: Vec<usize>,
+        p_scalar: Vec<f64>,
+        p_vector: Vec<f64>,
+        p_tensor: Vec<f64>,
+        p_int: Vec<i32>,
+        c_scalar: Vec<f64>,
+        c_vector: Vec<f64>,
+        c_tensor: Vec<f64>,
+        c_int: Vec<i32>,
+    }
+
+    impl Data {
+        fn piece(&self) -> Piece<'_> {
+            Piece {
+                dim: self.dim,
+                coords: &self.coords,
+                cells: &self.cells,
+                point_data: vec![
+                    Field::Scalar("gap", &self.p_scalar),
+                    Field::Vector("displacement", &self.p_vector),
+                    Field::Tensor("stress_nodal", &self.p_tensor),
+                    Field::Int("status", &self.p_int),
+                ],
+                cell_data: vec![
+                    Field::Scalar("von_mises", &self.c_scalar),
+                    Field::Vector("traction", &self.c_vector),
+                    Field::Tensor("stress", &self.c_tensor),
+                    Field::Int("rank", &self.c_int),
+                ],
+            }
+        }
+
+        /// The values as they must appear in the file (3 / 9 components).
+        fn expanded_vector(v: &[f64], dim: usize, n: usize) -> Vec<f64> {
+            if v.len() == 3 * n || dim == 3 {
+                return v.to_vec();
+            }
+            v.chunks(2).flat_map(|e| [e[0], e[1], 0.0]).collect()
+        }
+        fn expanded_tensor(v: &[f64], dim: usize, n: usize) -> Vec<f64> {
+            if v.len() == 9 * n || dim == 3 {
+                return v.to_vec();
+            }
+            v.chunks(4)
+                .flat_map(|e| [e[0], e[1], 0.0, e[2], e[3], 0.0, 0.0, 0.0, 0.0])
+                .collect()
+        }
+        fn points3(&self) -> Vec<f64> {
+            if self.dim == 3 {
+                return self.coords.clone();
+            }
+            self.coords
+                .chunks(2)
+                .flat_map(|p| [p[0], p[1], 0.0])
+                .collect()
+        }
+    }
+
+    /// Two triangles of the unit square, shifted by `dx`; 2-component
+    /// point vectors and 2x2 cell tensors (padded by the writer), full-width
+    /// cell vectors and point tensors.
+    fn two_triangles(dx: f64, rank: i32) -> Data {
+        Data {
+            dim: 2,
+            coords: vec![dx, 0.0, dx + 1.0, 0.0, dx + 1.0, 1.0, dx, 1.0],
+            cells: vec![0, 1, 2, 0, 2, 3],
+            p_scalar: vec![0.5, -1.25, 1e-300, 3.0e12],
+            p_vector: vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0],
+            p_tensor: (0..36).map(|i| i as f64 * 0.5 + dx).collect(),
+            p_int: vec![0, 1, 2, 3],
+            c_scalar: vec![10.0 + dx, 20.0 + dx],
+            c_vector: vec![0.1, 0.2, 0.3, -0.1, -0.2, -0.3],
+            c_tensor: vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0],
+            c_int: vec![rank, rank],
+        }
+    }
+
+    fn one_tet() -> Data {
+        Data {
+            dim: 3,
+            coords: vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+            cells: vec![0, 1, 2, 3],
+            p_scalar: vec![1.0, 2.0, 3.0, 4.0],
+            p_vector: (0..12).map(|i| i as f64 - 5.5).collect(),
+            p_tensor: (0..36).map(|i| (i as f64).sqrt()).collect(),
+            p_int: vec![-1, 0, 1, i32::MAX],
+            c_scalar: vec![std::f64::consts::PI],
+            c_vector: vec![1.0, -2.0, 3.5],
+            c_tensor: (1..=9).map(f64::from).collect(),
+            c_int: vec![7],
+        }
+    }
+
+    /// The numbers in `v`: a hex string of little-endian `f64` bytes (as
+    /// the Python scripts print arrays), or a (nested) JSON array of numbers.
+    fn as_f64s(v: &serde_json::Value) -> Vec<f64> {
+        if let Some(hex) = v.as_str() {
+            let bytes: Vec<u8> = (0..hex.len() / 2)
+                .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).expect("hex"))
+                .collect();
+            return bytes
+                .chunks(8)
+                .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+                .collect();
+        }
+        fn walk(v: &serde_json::Value, out: &mut Vec<f64>) {
+            match v {
+                serde_json::Value::Array(a) => a.iter().for_each(|x| walk(x, out)),
+                x => out.push(x.as_f64().expect("a number")),
+            }
+        }
+        let mut out = Vec::new();
+        walk(v, &mut out);
+        out
+    }
+
+    /// Checks what meshio read from a `.vtu` written from `d`.
+    fn check_meshio(d: &Data, got: &serde_json::Value) {
+        let np = d.coords.len() / d.dim;
+        let nc = d.cells.len() / (d.dim + 1);
+        assert_eq!(as_f64s(&got["points"]), d.points3());
+        let cells = got["cells"].as_array().expect("cells");
+        assert_eq!(cells.len(), 1, "one cell block");
+        let ty = if d.dim == 2 { "triangle" } else { "tetra" };
+        assert_eq!(cells[0][0], ty);
+        let conn: Vec<usize> = as_f64s(&cells[0][1]).iter().map(|&x| x as usize).collect();
+        assert_eq!(conn, d.cells);
+
+        let pd = &got["point_data"];
+        assert_eq!(pd.as_object().map(|o| o.len()), Some(4), "{pd}");
+        assert_eq!(pd["gap"][0], "float64");
+        assert_eq!(as_f64s(&pd["gap"][2]), d.p_scalar);
+        assert_eq!(as_f64s(&pd["displacement"][1]), vec![np as f64, 3.0]);
+        assert_eq!(
+            as_f64s(&pd["displacement"][2]),
+            Data::expanded_vector(&d.p_vector, d.dim, np)
+        );
+        assert_eq!(as_f64s(&pd["stress_nodal"][1]), vec![np as f64, 9.0]);
+        assert_eq!(
+            as_f64s(&pd["stress_nodal"][2]),
+            Data::expanded_tensor(&d.p_tensor, d.dim, np)
+        );
+        assert_eq!(pd["status"][0], "int32");
+        let ints: Vec<f64> = d.p_int.iter().map(|&i| f64::from(i)).collect();
+        assert_eq!(as_f64s(&pd["status"][2]), ints);
+
+        let cd = &got["cell_data"];
+        assert_eq!(cd.as_object().map(|o| o.len()), Some(4), "{cd}");
+        assert_eq!(as_f64s(&cd["von_mises"][2]), d.c_scalar);
+        assert_eq!(as_f64s(&cd["traction"][1]), vec![nc as f64, 3.0]);
+        assert_eq!(
+            as_f64s(&cd["traction"][2]),
+            Data::expanded_vector(&d.c_vector, d.dim, nc)
+        );
+        assert_eq!(as_f64s(&cd["stress"][1]), vec![nc as f64, 9.0]);
+        assert_eq!(
+            as_f64s(&cd["stress"][2]),
+            Data::expanded_tensor(&d.c_tensor, d.dim, nc)
+        );
+        assert_eq!(cd["rank"][0], "int32");
+        let ints: Vec<f64> = d.c_int.iter().map(|&i| f64::from(i)).collect();
+        assert_eq!(as_f64s(&cd["rank"][2]), ints);
+    }
+
+    #[test]
+    fn base64_matches_rfc4648() {
+        for (input, want) in [
+            ("", ""),
+            ("f", "Zg=="),
+            ("fo", "Zm8="),
+            ("foo", "Zm9v"),
+            ("foob", "Zm9vYg=="),
+            ("fooba", "Zm9vYmE="),
+            ("foobar", "Zm9vYmFy"),
+        ] {
+            let mut s = String::new();
+            base64_into(&mut s, input.as_bytes());
+            assert_eq!(s, want);
+        }
+        let mut s = String::new();
+        base64_into(&mut s, &[0xfb, 0xff, 0xbf]);
+        assert_eq!(s, "+/+/");
+    }
+
+    #[test]
+    fn vtu_pieces_read_back_with_meshio() {
+        let dir = temp_dir("meshio");
+        for (name, d) in [("tri.vtu", two_triangles(0.0, 0)), ("tet.vtu", one_tet())] {
+            let path = dir.join(name);
+            write_vtu(&path, &d.piece()).expect("write the piece");
+            let got = run_python("meshio", "python3-meshio", MESHIO_DUMP, &[&path]);
+            check_meshio(&d, &got);
+        }
+        // Only the two pieces: no temporary file left behind.
+        assert_eq!(std::fs::read_dir(&dir).map(|d| d.count()).ok(), Some(2));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn vtu_piece_reads_back_with_vtk() {
+        let dir = temp_dir("vtk1");
+        let d = one_tet();
+        let path = dir.join("tet.vtu");
+        write_vtu(&path, &d.piece()).expect("write the piece");
+        let got = run_python("vtk", "python3-vtk9", VTK_DUMP, &[&path]);
+        assert_eq!(got["num_points"], 4);
+        assert_eq!(got["num_cells"], 1);
+        assert_eq!(got["cells"][0][0], i64::from(VTK_TETRA));
+        assert_eq!(as_f64s(&got["cells"][0][1]), vec![0.0, 1.0, 2.0, 3.0]);
+        assert_eq!(as_f64s(&got["points"]), d.coords);
+        assert_eq!(got["cell_data"]["stress"][0], "double");
+        assert_eq!(got["cell_data"]["stress"][1], 9);
+        assert_eq!(as_f64s(&got["cell_data"]["stress"][2]), d.c_tensor);
+        assert_eq!(got["point_data"]["status"][0], "int");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn pvtu_over_pieces_reads_back_with_vtk() {
+        let dir = temp_dir("pvtu");
+        let a = two_triangles(0.0, 0);
+        let b = two_triangles(1.0, 1);
+        // A rank that owns nothing still writes a (valid, empty) piece.
+        let empty_data = Data {
+            dim: 2,
+            coords: vec![],
+            cells: vec![],
+            p_scalar: vec![],
+            p_vector: vec![],
+            p_tensor: vec![],
+            p_int: vec![],
+            c_scalar: vec![],
+            c_vector: vec![],
+            c_tensor: vec![],
+            c_int: vec![],
+        };
+        let names: Vec<String> = (0..3).map(|r| piece_file_name("out", r)).collect();
+        assert_eq!(names[1], "out_1.vtu");
+        for (name, d) in names.iter().zip([&a, &b, &empty_data]) {
+            write_vtu(&dir.join(name), &d.piece()).expect("write a piece");
+        }
+        let pa = a.piece();
+        let index = dir.join("out.pvtu");
+        write_pvtu(&index, &names, &pa.point_fields(), &pa.cell_fields()).expect("write pvtu");
+        let got = run_python("vtk", "python3-vtk9", VTK_DUMP, &[&index]);
+
+        assert_eq!(got["num_points"], 8);
+        assert_eq!(got["num_cells"], 4);
+        let mut points = a.points3();
+        points.extend(b.points3());
+        assert_eq!(as_f64s(&got["points"]), points);
+        for c in 0..4 {
+            assert_eq!(got["cells"][c][0], i64::from(VTK_TRIANGLE));
+        }
+        // Piece b's point indices are shifted by piece a's 4 points.
+        assert_eq!(as_f64s(&got["cells"][2][1]), vec![4.0, 5.0, 6.0]);
+
+        let pd = &got["point_data"];
+        let cd = &got["cell_data"];
+        let names_of = |v: &serde_json::Value| {
+            let mut n: Vec<String> = v.as_object().expect("arrays").keys().cloned().collect();
+            n.sort();
+            n
+        };
+        assert_eq!(
+            names_of(pd),
+            ["displacement", "gap", "status", "stress_nodal"]
+        );
+        assert_eq!(names_of(cd), ["rank", "stress", "traction", "von_mises"]);
+        let cat = |x: &[f64], y: &[f64]| [x, y].concat();
+        assert_eq!(as_f64s(&pd["gap"][2]), cat(&a.p_scalar, &b.p_scalar));
+        assert_eq!(pd["displacement"][1], 3);
+        assert_eq!(
+            as_f64s(&pd["displacement"][2]),
+            cat(
+                &Data::expanded_vector(&a.p_vector, 2, 4),
+                &Data::expanded_vector(&b.p_vector, 2, 4)
+            )
+        );
+        assert_eq!(pd["stress_nodal"][1], 9);
+        assert_eq!(
+            as_f64s(&pd["stress_nodal"][2]),
+            cat(&a.p_tensor, &b.p_tensor)
+        );
+        assert_eq!(pd["status"][0], "int");
+        assert_eq!(as_f64s(&cd["von_mises"][2]), cat(&a.c_scalar, &b.c_scalar));
+        assert_eq!(as_f64s(&cd["traction"][2]), cat(&a.c_vector, &b.c_vector));
+        assert_eq!(
+            as_f64s(&cd["stress"][2]),
+            cat(
+                &Data::expanded_tensor(&a.c_tensor, 2, 2),
+                &Data::expanded_tensor(&b.c_tensor, 2, 2)
+            )
+        );
+        assert_eq!(as_f64s(&cd["rank"][2]), vec![0.0, 0.0, 1.0, 1.0]);
+        assert_eq!(cd["rank"][0], "int");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn non_finite_value_fails_and_leaves_no_file() {
+        let dir = temp_dir("nan");
+        let mut d = one_tet();
+        d.p_vector[7] = f64::NAN;
+        let path = dir.join("bad.vtu");
+        let e = write_vtu(&path, &d.piece()).expect_err("a NaN must be refused");
+        assert_eq!(e.kind(), io::ErrorKind::InvalidData);
+        let msg = e.to_string();
+        assert!(msg.contains("'displacement'"), "{msg}");
+        assert!(msg.contains("entry 2"), "{msg}");
+        assert!(!path.exists());
+
+        let mut d = two_triangles(0.0, 0);
+        d.c_tensor[5] = f64::INFINITY;
+        let e = write_vtu(&path, &d.piece()).expect_err("an infinity must be refused");
+        assert_eq!(e.kind(), io::ErrorKind::InvalidData);
+        assert!(e.to_string().contains("'stress'"), "{e}");
+
+        let mut d = two_triangles(0.0, 0);
+        d.coords[3] = f64::NEG_INFINITY;
+        let e = write_vtu(&path, &d.piece()).expect_err("bad coordinates must be refused");
+        assert_eq!(e.kind(), io::ErrorKind::InvalidData);
+        assert!(e.to_string().contains("coordinates"), "{e}");
+
+        // A valid piece over an existing file, then a failure, keeps the old file.
+        write_vtu(&path, &one_tet().piece()).expect("write a valid piece");
+        let before = std::fs::read(&path).expect("read back");
+        let mut d = one_tet();
+        d.c_scalar[0] = f64::NAN;
+        assert!(write_vtu(&path, &d.piece()).is_err());
+        assert_eq!(std::fs::read(&path).expect("read back"), before);
+        assert_eq!(std::fs::read_dir(&dir).map(|d| d.count()).ok(), Some(1));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn inconsistent_sizes_are_refused() {
+        let d = two_triangles(0.0, 0);
+        let mut p = d.piece();
+        p.point_data.push(Field::Scalar("short", &[1.0, 2.0]));
+        let e = vtu_bytes(&p).expect_err("short field");
+        assert_eq!(e.kind(), io::ErrorKind::InvalidInput);
+        assert!(e.to_string().contains("'short'"), "{e}");
+
+        let mut p = d.piece();
+        p.point_data.push(Field::Scalar("gap", &d.p_scalar));
+        assert!(vtu_bytes(&p).is_err(), "duplicate names");
+
+        let mut p = d.piece();
+        p.cells = &[0, 1, 4];
+        let e = vtu_bytes(&p).expect_err("index out of range");
+        assert!(e.to_string().contains("out of range"), "{e}");
+
+        let mut p = d.piece();
+        p.dim = 4;
+        assert!(vtu_bytes(&p).is_err());
+
+        // 3D does not accept 2-component vectors.
+        let t = one_tet();
+        let mut p = t.piece();
+        p.point_data = vec![Field::Vector("v", &[0.0; 8])];
+        assert!(vtu_bytes(&p).is_err());
+
+        assert!(pvtu_bytes(&[], &[], &[]).is_err());
+        assert!(pvtu_bytes(&["/abs/a.vtu".into()], &[], &[]).is_err());
+    }
+
+    #[test]
+    fn names_are_escaped_and_write_errors_name_the_file() {
+        let d = one_tet();
+        let mut p = d.piece();
+        p.point_data = vec![Field::Scalar("a<b & \"c\"", &d.p_scalar)];
+        let s = String::from_utf8(vtu_bytes(&p).expect("valid")).expect("utf-8");
+        assert!(s.contains("Name=\"a&lt;b &amp; &quot;c&quot;\""), "{s}");
+
+        let dir = temp_dir("missing");
+        let bad = dir.join("no/such/dir/x.vtu");
+        let e = write_vtu(&bad, &d.piece()).expect_err("missing directory");
+        assert!(e.to_string().contains("x.vtu"), "{e}");
+        assert_eq!(std::fs::read_dir(&dir).map(|d| d.count()).ok(), Some(0));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
