@@ -62,8 +62,28 @@ fn load_mesh(source: &MeshSource) -> Result<Mesh, Error> {
             other => return bad(format!("option -mesh_generate: unknown mesh '{other}'")),
         },
     };
+    // Cells of both orientations: the minority ones are inverted (a broken
+    // mesh, e.g. a node moved across an edge); name the first of them.
+    let positive = (0..mesh.num_cells())
+        .filter(|&c| mesh.signed_measure(c) > 0.0)
+        .count();
+    let negative_is_minority = 2 * positive >= mesh.num_cells();
     for c in 0..mesh.num_cells() {
         let m = mesh.signed_measure(c);
+        let inverted = m.is_finite() && m != 0.0 && ((m < 0.0) == negative_is_minority);
+        if inverted && positive != 0 && positive != mesh.num_cells() {
+            let k = mesh.dim + 1;
+            let tags: Vec<String> = mesh.cells[c * k..(c + 1) * k]
+                .iter()
+                .map(|&v| mesh.node_tags[v].to_string())
+                .collect();
+            return bad(format!(
+                "mesh: cell {} (nodes {}) is inverted: its orientation is opposite to that of the other {} cells",
+                c + 1,
+                tags.join(" "),
+                if negative_is_minority { positive } else { mesh.num_cells() - positive }
+            ));
+        }
         if !m.is_finite() || m == 0.0 {
             let k = mesh.dim + 1;
             let tags: Vec<String> = mesh.cells[c * k..(c + 1) * k]

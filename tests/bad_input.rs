@@ -187,3 +187,44 @@ fn friction_options() {
     );
     expect_bad("fl", &hertz(&["-friction", "viscous"]), "-friction");
 }
+
+#[test]
+fn inverted_element() {
+    // Swap two nodes of one triangle of a valid 2.2 mesh.
+    let dir = scratch("inverted-src");
+    let text = std::fs::read_to_string(root().join("meshes/hertz_442_v22.msh")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let start = lines.iter().position(|l| l == "$Elements").unwrap();
+    let n: usize = lines[start + 1].trim().parse().unwrap();
+    let j = (start + 2..start + 2 + n)
+        .find(|&j| lines[j].split_whitespace().nth(1) == Some("2"))
+        .unwrap();
+    let mut f: Vec<String> = lines[j].split_whitespace().map(String::from).collect();
+    let len = f.len();
+    f.swap(len - 1, len - 2);
+    let nodes = format!("{} {} {}", f[len - 3], f[len - 2], f[len - 1]);
+    lines[j] = f.join(" ");
+    let path = dir.join("inverted.msh");
+    std::fs::write(&path, lines.join("\n")).unwrap();
+    expect_bad(
+        "inverted",
+        &hertz_args(path.to_str().unwrap(), &[]),
+        &format!("(nodes {nodes}) is inverted"),
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn options_files_leave_nothing_unused() {
+    for f in std::fs::read_dir(root().join("options")).unwrap() {
+        let f = f.unwrap().path();
+        let name = format!("options/{}", f.file_name().unwrap().to_string_lossy());
+        let run = mpirun(2, &["-options_file", &name, "-options_left"]);
+        assert_eq!(run.status, Some(0), "{name}: {}", run.stderr);
+        assert!(
+            run.stdout.contains("There are no unused options."),
+            "{name}:\n{}",
+            run.stdout
+        );
+    }
+}
