@@ -57,8 +57,8 @@ pub fn cf_fp<C: Communicator>(
         out.inner_iterations += run.iterations;
         out.fixed_point_iterations = m + 1;
         out.last = run;
-        // s^{m+1} = nu_f |lambda_c^m|
-        for (x, l) in next.iter_mut().zip(&state.stress_n) {
+        // s^{m+1} = nu_f |lambda_c^m| (the multiplier of the Tresca solve)
+        for (x, l) in next.iter_mut().zip(&state.lambda_n) {
             *x = nu_f * l.abs();
         }
         let mut local = [0.0; 2];
