@@ -368,6 +368,7 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                 .boolean("converged", solved.converged)
                 .num("criterion", solved.last.criterion)
                 .num("constraint_residual", solved.last.residual)
+                .num("dual_residual", solved.last.dual)
                 .opt("fixed_point_change", solved.fp_change)
                 .num("contact_force", contact_force)
                 .array("tangential_force", &tangential_force)
@@ -782,6 +783,7 @@ fn solve<C: Communicator>(
         max_it: u.max_it,
         monitor: u.monitor,
         inner_rtol_factor: u.inner_rtol_factor,
+        dual_rtol: u.dual_rtol,
     };
     let nc = problem.contact.len();
     let nu_f = settings.friction_coefficient;

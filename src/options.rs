@@ -29,6 +29,7 @@ pub const HELP: &[(&str, &str, &str)] = &[
     ("-ubr_rho RHO", "r", "multiplier step rho in (4.4); convergence needs 0 < rho < r(1+sqrt 5)/2"),
     ("-ubr_rtol EPS", "1e-5", "relative tolerance eps_c = eps_f of the stopping tests (4.16), (5.6)"),
     ("-ubr_residual_tol TOL", "1e-3 * ubr_rtol / 1e-5", "tolerance on the constraint residual ||B u - phi||_{0,Gamma_c} (section 7)"),
+    ("-ubr_dual_rtol TOL", "10 * ubr_rtol", "tolerance on the dual residual r||phi^k - phi^(k-1)|| / ||lambda^(k+1)|| (guards the stopping test against the slow regime of large r)"),
     ("-ubr_max_it N", "10000", "maximum UBR iterations"),
     ("-ubr_fp_rtol EPS", "1e-4", "fixed-point tolerance eps_fp of (5.7) (CF-FP)"),
     ("-ubr_fp_max_it N", "100", "maximum fixed-point iterations (CF-FP)"),
@@ -137,6 +138,7 @@ pub struct UbrSettings {
     pub fp_max_it: usize,
     pub monitor: bool,
     pub inner_rtol_factor: f64,
+    pub dual_rtol: f64,
 }
 
 #[derive(Clone, Debug)]
@@ -420,6 +422,13 @@ impl Settings {
             fp_rtol,
             fp_max_it: get_usize("-ubr_fp_max_it", 100)?,
             monitor: get_bool("-ubr_monitor")?,
+            dual_rtol: {
+                let v = get_f64("-ubr_dual_rtol")?.unwrap_or(10.0 * rtol);
+                if v <= 0.0 {
+                    return bad(format!("option -ubr_dual_rtol: {v} is not positive"));
+                }
+                v
+            },
             inner_rtol_factor: {
                 let f = get_f64("-ubr_inner_rtol_factor")?.unwrap_or(0.1);
                 if !(f > 0.0 && f < 1.0) {

@@ -52,7 +52,11 @@ pub fn cf_fp<C: Communicator>(
     for m in 0..fp_max_it {
         // The paper's variable inner tolerance eps_f^m = max(0.1^m, eps_f).
         let eps = 0.1f64.powi(m as i32).max(ctl.rtol);
-        let inner = UbrControl { rtol: eps, ..*ctl };
+        let inner = UbrControl {
+            rtol: eps,
+            dual_rtol: ctl.dual_rtol * eps / ctl.rtol,
+            ..*ctl
+        };
         let run = ubr(world, problem, state, Some(&s), &inner, events)?;
         out.inner_iterations += run.iterations;
         out.fixed_point_iterations = m + 1;
