@@ -78,8 +78,8 @@ fn load_mesh(source: &MeshSource) -> Result<Mesh, Error> {
                 .map(|&v| mesh.node_tags[v].to_string())
                 .collect();
             return bad(format!(
-                "mesh: cell {} (nodes {}) is inverted: its orientation is opposite to that of the other {} cells",
-                c + 1,
+                "mesh: element {} (nodes {}) is inverted: its orientation is opposite to that of the other {} cells",
+                mesh.cell_tag(c),
                 tags.join(" "),
                 if negative_is_minority { positive } else { mesh.num_cells() - positive }
             ));
@@ -92,7 +92,7 @@ fn load_mesh(source: &MeshSource) -> Result<Mesh, Error> {
                 .collect();
             return bad(format!(
                 "mesh: element {} (nodes {}) is degenerate: zero {}",
-                c + 1,
+                mesh.cell_tag(c),
                 tags.join(" "),
                 if mesh.dim == 2 { "area" } else { "volume" }
             ));
@@ -203,7 +203,7 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     // Iterations: UBR-C, UBR-TF or CF-FP.
     let guard = stages.iterations.push()?;
     let t_iter = Instant::now();
-    let (state, solved) = solve(world, &local, &settings, &problem, &events, e_star)?;
+    let (state, mut solved) = solve(world, &local, &settings, &problem, &events, e_star)?;
     let time_iterations = t_iter.elapsed().as_secs_f64();
     drop(guard);
 
@@ -255,6 +255,17 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
         solved.bound.clone()
     };
     let diag = diagnostics(world, &problem, &state, &check_bound)?;
+    // A direct solve of a singular matrix (a rigid motion nothing holds, e.g. a
+    // sideways load on a frictionless body) does not always fail: the
+    // equilibrium of the answer tells.
+    let mut singular = None;
+    if !problem.iterative && diag.equilibrium_rel > 1e-4 {
+        singular = Some(format!(
+            "{} stopped after {} iterations: the linear system is singular: a rigid-body motion of the body is free (nothing holds it along some direction), and the answer violates equilibrium (residual {:.1e}, relative); check the Dirichlet conditions and the loads",
+            solved.name, solved.iterations, diag.equilibrium_rel
+        ));
+        solved.converged = false;
+    }
     let all_rows = report::gather_rows(world, &rows);
     // Peak resident memory (VmHWM) of each rank: rank 0's, the largest, the sum.
     let hwm = peak_memory_mb();
@@ -427,6 +438,9 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     if failed > 0.0 {
         return Err(write_error
             .unwrap_or_else(|| Error::BadInput("writing an output file failed on rank 0".into())));
+    }
+    if let Some(msg) = singular {
+        return Err(Error::NotConverged(msg));
     }
     if !solved.converged {
         return Err(Error::NotConverged(solved.failure(&settings)));
@@ -690,6 +704,16 @@ pub struct Solved {
 
 impl Solved {
     fn failure(&self, s: &Settings) -> String {
+        if self.last.tension > 0.1 {
+            return format!(
+                "{} stopped after {} iterations (relative change {:.3e}, constraint residual {:.3e}): the body is not held: the contact surface would have to pull (tensile contact stress {:.0}% of the largest), so a rigid-body motion is free and the body drifts; check the Dirichlet conditions (-dirichlet_NAME), the loads and the obstacle",
+                self.name,
+                self.iterations,
+                self.last.criterion,
+                self.last.residual,
+                100.0 * self.last.tension
+            );
+        }
         if self.name == "SSN-C" {
             format!(
                 "SSN-C stopped after {} iterations (-ssn_max_it): the active set still changes",
@@ -1000,7 +1024,14 @@ fn diagnostics<C: Communicator>(
                         }
                     }
                 }
-                (eq2, f2.max(c2))
+                // Loaded by prescribed displacements only: their lifting load.
+                let mut l2 = 0.0;
+                for (i, bi) in b.iter().enumerate() {
+                    if !p.is_dirichlet[i] {
+                        l2 += bi * bi;
+                    }
+                }
+                (eq2, f2.max(c2).max(l2))
             })
         })
     })???;

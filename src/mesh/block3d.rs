@@ -166,6 +166,7 @@ pub fn generate(h: f64) -> Result<Mesh, MeshError> {
         dim: 3,
         coords,
         node_tags: (1..=n_nodes as u64).collect(),
+        cell_tags: (1..=(cells.len() / 4) as u64).collect(),
         cells,
         groups,
     })

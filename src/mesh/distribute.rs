@@ -470,6 +470,7 @@ mod tests {
             dim: 2,
             coords,
             node_tags: (1..=9).collect(),
+            cell_tags: (1..=8).collect(),
             cells,
             groups: vec![Group {
                 name: "bottom".into(),

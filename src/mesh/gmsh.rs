@@ -216,6 +216,9 @@ struct Reader<'a> {
     elements_at: Option<usize>,
     tris: Vec<usize>,
     tets: Vec<usize>,
+    /// Element tags in the file of the triangles and tetrahedra.
+    tri_tags: Vec<u64>,
+    tet_tags: Vec<u64>,
     groups: Vec<GroupAcc>,
     group_index: HashMap<(usize, i32), usize>,
     last_group: Option<(usize, i32, usize)>,
@@ -247,6 +250,8 @@ impl<'a> Reader<'a> {
             elements_at: None,
             tris: Vec::new(),
             tets: Vec::new(),
+            tri_tags: Vec::new(),
+            tet_tags: Vec::new(),
             groups: Vec::new(),
             group_index: HashMap::new(),
             last_group: None,
@@ -874,7 +879,7 @@ impl<'a> Reader<'a> {
                     return Err(self.err(hat, format_args!("bad number of tags {ntags}")));
                 };
                 for _ in 0..nf {
-                    self.b_i32()?;
+                    let etag = self.b_i32()?.max(0) as u64;
                     let mut phys = 0;
                     for j in 0..ntags {
                         let v = self.b_i32()?;
@@ -891,13 +896,13 @@ impl<'a> Reader<'a> {
                             .and_then(|u| self.node_map.get(u))
                             .ok_or_else(|| self.undefined_node(at, t))?;
                     }
-                    self.add_v2(dim, conn, phys);
+                    self.add_v2(dim, conn, phys, etag);
                 }
                 done += nf;
             }
         } else {
             for _ in 0..n {
-                self.a_u64("element tag")?;
+                let etag = self.a_u64("element tag")?;
                 let (at, t) = self.token()?;
                 let gmsh_type = parse_i32(t).ok_or_else(|| self.bad(at, t, "element type"))?;
                 let dim = self.check_type(at, gmsh_type)?;
@@ -918,7 +923,7 @@ impl<'a> Reader<'a> {
                         .get(tag)
                         .ok_or_else(|| self.undefined_node(at, tag))?;
                 }
-                self.add_v2(dim, conn, phys);
+                self.add_v2(dim, conn, phys, etag);
             }
         }
         Ok(())
@@ -926,14 +931,20 @@ impl<'a> Reader<'a> {
 
     /// Adds a 2.2 element; a cell repeating the previous element is Gmsh's
     /// copy for another physical group and only joins that group.
-    fn add_v2(&mut self, dim: usize, conn: [usize; 4], phys: i32) {
+    fn add_v2(&mut self, dim: usize, conn: [usize; 4], phys: i32, etag: u64) {
         let repeat = self.prev_v2 == Some((dim, conn));
         self.prev_v2 = Some((dim, conn));
         let c = conn.get(..dim + 1).unwrap_or(&conn);
         if !repeat {
             match dim {
-                2 => self.tris.extend_from_slice(c),
-                3 => self.tets.extend_from_slice(c),
+                2 => {
+                    self.tris.extend_from_slice(c);
+                    self.tri_tags.push(etag);
+                }
+                3 => {
+                    self.tets.extend_from_slice(c);
+                    self.tet_tags.push(etag);
+                }
                 _ => {}
             }
         }
@@ -1032,7 +1043,7 @@ impl<'a> Reader<'a> {
             }
             let k = dim + 1;
             for _ in 0..nb {
-                self.size("element tag")?;
+                let etag = self.size("element tag")?;
                 let mut conn = [0usize; 4];
                 for c in conn.iter_mut().take(k) {
                     let at = self.here();
@@ -1044,8 +1055,14 @@ impl<'a> Reader<'a> {
                 }
                 let c = conn.get(..k).unwrap_or(&conn);
                 match dim {
-                    2 => self.tris.extend_from_slice(c),
-                    3 => self.tets.extend_from_slice(c),
+                    2 => {
+                        self.tris.extend_from_slice(c);
+                        self.tri_tags.push(etag);
+                    }
+                    3 => {
+                        self.tets.extend_from_slice(c);
+                        self.tet_tags.push(etag);
+                    }
                     _ => {}
                 }
                 for &g in &slots {
@@ -1126,7 +1143,11 @@ impl<'a> Reader<'a> {
             }
             xy
         };
-        let cells = if dim == 3 { self.tets } else { self.tris };
+        let (cells, cell_tags) = if dim == 3 {
+            (self.tets, self.tet_tags)
+        } else {
+            (self.tris, self.tri_tags)
+        };
         let mut groups = Vec::new();
         for g in self.groups {
             if g.dim < dim {
@@ -1157,6 +1178,7 @@ impl<'a> Reader<'a> {
             coords,
             node_tags: self.node_tags,
             cells,
+            cell_tags,
             groups,
         };
         mesh.drop_unused_nodes();
@@ -1290,6 +1312,7 @@ $EndElements
             coords: vec![0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0],
             node_tags: vec![1, 2, 3, 4],
             cells: vec![0, 1, 2, 0, 2, 3],
+            cell_tags: vec![],
             groups: vec![
                 group("corner", 0, &[0]),
                 group("11", 0, &[]),
@@ -1381,6 +1404,7 @@ $EndElements
             ],
             node_tags: vec![10, 20, 30, 2_000_000_000, 7],
             cells: vec![0, 1, 2, 3, 1, 4, 2, 3],
+            cell_tags: vec![],
             groups: vec![
                 group("41", 1, &[1, 2]),
                 group("base", 2, &[0, 2, 1]),

@@ -142,6 +142,7 @@ pub fn generate(h: f64) -> Result<Mesh, MeshError> {
         dim: 2,
         coords,
         node_tags: (1..=n_nodes as u64).collect(),
+        cell_tags: (1..=(cells.len() / 3) as u64).collect(),
         cells,
         groups: vec![
             line("contact", contact),

@@ -35,8 +35,9 @@ impl Group {
     }
 }
 
-/// A serial P1 mesh.
-#[derive(Clone, Debug, PartialEq)]
+/// A serial P1 mesh. Equality compares the geometry, the node tags and the
+/// groups, not the element tags (formats number elements differently).
+#[derive(Clone, Debug)]
 pub struct Mesh {
     /// 2 (triangles) or 3 (tetrahedra).
     pub dim: usize,
@@ -46,6 +47,8 @@ pub struct Mesh {
     pub node_tags: Vec<u64>,
     /// Cells, `dim + 1` node indices per cell.
     pub cells: Vec<usize>,
+    /// The cell's element tag in the input file (1-based numbering for generated meshes).
+    pub cell_tags: Vec<u64>,
     /// Physical groups of dimension < `dim`.
     pub groups: Vec<Group>,
 }
@@ -63,7 +66,22 @@ impl fmt::Display for MeshError {
 
 impl std::error::Error for MeshError {}
 
+impl PartialEq for Mesh {
+    fn eq(&self, o: &Mesh) -> bool {
+        self.dim == o.dim
+            && self.coords == o.coords
+            && self.node_tags == o.node_tags
+            && self.cells == o.cells
+            && self.groups == o.groups
+    }
+}
+
 impl Mesh {
+    /// The element tag of cell `c` in the input file (its 1-based position if unknown).
+    pub fn cell_tag(&self, c: usize) -> u64 {
+        self.cell_tags.get(c).copied().unwrap_or(c as u64 + 1)
+    }
+
     pub fn num_nodes(&self) -> usize {
         self.coords.len() / self.dim
     }

@@ -85,6 +85,9 @@ pub fn cf_fp<C: Communicator>(
             );
         }
         out.bound.clone_from(&s);
+        if !run.converged && run.iterations >= ctl.max_it {
+            break; // a Tresca solve that cannot converge: the fixed point cannot either
+        }
         let full_tolerance = eps <= ctl.rtol;
         if out.fp_change < fp_rtol && full_tolerance && run.converged {
             out.converged = true;

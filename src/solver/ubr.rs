@@ -28,6 +28,11 @@ use crate::error::Error;
 use crate::petsc::Vector;
 use mpi::traits::*;
 
+/// A converged contact stress is compressive: tension above this fraction of
+/// the largest stress means the augmentation springs r carry load, i.e. a
+/// rigid motion of the body is free (it drifts away or slides off).
+pub const TENSION_TOL: f64 = 1e-3;
+
 /// The iterate of a UBR run, kept between runs for warm starts (CF-FP).
 pub struct UbrState {
     pub dim: usize,
@@ -134,6 +139,10 @@ pub struct UbrOutcome {
     pub residual: f64,
     /// Dual residual `r ||phi^k - phi^{k-1}|| / ||lambda^{k+1}||`.
     pub dual: f64,
+    /// Largest tensile contact stress `max (-lambda_n)^+` relative to the
+    /// largest `|lambda_n|` (stresses of u^k): near 1 when the augmentation
+    /// springs hold a body that nothing else holds.
+    pub tension: f64,
     /// Global counts from the last projection.
     pub contact: usize,
     pub stick: usize,
@@ -218,6 +227,8 @@ pub fn ubr<C: Communicator>(
         let st = &mut *state;
         let sums = st.u.read(|uv| {
             let mut s = [0.0f64; 9];
+            // max tension, max |stress|
+            let mut ext = [0.0f64; 2];
             // ||u^k - u^{k-1}||^2 and ||u^k||^2 with lumped mass
             for (j, m) in problem.lumped_mass.iter().enumerate() {
                 for c in 0..d {
@@ -234,6 +245,8 @@ pub fn ubr<C: Communicator>(
                 let uni: f64 = (0..d).map(|c| uv[base + c] * n[c]).sum();
                 // -sigma_n(u^k) by (4.7), before the update
                 st.stress_n[i] = st.lambda_n[i] + r * (uni - st.phi_n[i]);
+                ext[0] = ext[0].max(-st.stress_n[i]);
+                ext[1] = ext[1].max(st.stress_n[i].abs());
                 let (phi_new, lambda_new, contact) =
                     project_normal(uni, st.lambda_n[i], cs.g[i], r, rho);
                 s[2] += w * (phi_new - st.phi_n[i]).powi(2);
@@ -288,9 +301,17 @@ pub fn ubr<C: Communicator>(
                     s[5] += 1.0;
                 }
             }
-            s
+            (s, ext)
         })?;
         drop(e);
+        let (sums, ext) = sums;
+        let tension = super::allreduce_max(world, ext[0]);
+        let largest = super::allreduce_max(world, ext[1]);
+        out.tension = if largest > 0.0 {
+            tension / largest
+        } else {
+            0.0
+        };
         let [du2, u2, dphi2, phi2, res2, ncontact, nstick, nslip, lam2] =
             allreduce_sum(world, sums);
         // The dual residual r ||phi^k - phi^{k-1}||, relative to ||lambda^{k+1}||:
@@ -344,6 +365,7 @@ pub fn ubr<C: Communicator>(
             && out.criterion < ctl.rtol
             && out.residual < ctl.residual_tol
             && out.dual < ctl.dual_rtol
+            && out.tension < TENSION_TOL
         {
             out.converged = true;
             break;
