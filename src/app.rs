@@ -808,6 +808,7 @@ fn solve<C: Communicator>(
         monitor: u.monitor,
         inner_rtol_factor: u.inner_rtol_factor,
         dual_rtol: u.dual_rtol,
+        tension_tol: ubr::TENSION_TOL,
     };
     let nc = problem.contact.len();
     let nu_f = settings.friction_coefficient;

@@ -17,10 +17,10 @@ pub const HELP: &[(&str, &str, &str)] = &[
     ("-traction_NAME tx,ty[,tz]", "none", "surface traction (force per unit measure) on physical group NAME"),
     ("-contact_surface NAME", "none", "physical group of the candidate contact surface Gamma_c"),
     ("-contact_direction nx,ny[,nz]", "required with a contact surface", "unit contact direction n, toward the obstacle"),
-    ("-obstacle plane|ball", "required with a contact surface", "rigid obstacle"),
+    ("-obstacle plane|ball|halfball", "required with a contact surface", "rigid obstacle; ball: candidates are the nodes whose line along n meets the ball; halfball: the half-ball standing on its flat face on a floor (the plane through the centre orthogonal to n), every surface node a candidate (the paper's 3D Gamma_c)"),
     ("-obstacle_point x,y[,z]", "required for plane", "a point of the obstacle plane (orthogonal to n)"),
-    ("-obstacle_center x,y[,z]", "required for ball", "centre of the obstacle ball (circle in 2D)"),
-    ("-obstacle_radius R", "required for ball", "radius of the obstacle ball"),
+    ("-obstacle_center x,y[,z]", "required for ball, halfball", "centre of the obstacle ball (circle in 2D)"),
+    ("-obstacle_radius R", "required for ball, halfball", "radius of the obstacle ball"),
     ("-friction none|tresca|coulomb", "none", "friction law"),
     ("-friction_coefficient NU_F", "required with friction", "Coulomb friction coefficient nu_f (also scales -tresca_bound hertz|frictionless)"),
     ("-tresca_bound VALUE|hertz|frictionless", "frictionless (tresca), 0 (coulomb)", "Tresca bound s: a constant, nu_f x Hertz pressure, or nu_f x lambda_c of a frictionless solve; with coulomb, the starting s^0"),
@@ -95,8 +95,21 @@ pub enum TrescaBound {
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Obstacle {
-    Plane { point: Vec<f64> },
-    Ball { center: Vec<f64>, radius: f64 },
+    Plane {
+        point: Vec<f64>,
+    },
+    Ball {
+        center: Vec<f64>,
+        radius: f64,
+    },
+    /// The paper's 3D obstacle (section 7.2): the half of the ball facing the
+    /// body, standing on its flat face on a rigid floor, the plane through the
+    /// centre orthogonal to n. Every node of the contact surface is a
+    /// candidate (the paper's Gamma_c is the whole surface).
+    HalfBall {
+        center: Vec<f64>,
+        radius: f64,
+    },
 }
 
 #[derive(Clone, Debug)]
@@ -334,7 +347,7 @@ impl Settings {
                 let obstacle = match get_word("-obstacle")?.as_deref() {
                     None => {
                         return bad(
-                            "option -obstacle (plane or ball) is required with -contact_surface",
+                            "option -obstacle (plane, ball or halfball) is required with -contact_surface",
                         )
                     }
                     Some("plane") => {
@@ -343,23 +356,31 @@ impl Settings {
                         };
                         Obstacle::Plane { point }
                     }
-                    Some("ball") => {
+                    Some(kind @ ("ball" | "halfball")) => {
                         let Some(center) = get_vec("-obstacle_center")? else {
-                            return bad("option -obstacle_center is required with -obstacle ball");
+                            return bad(format!(
+                                "option -obstacle_center is required with -obstacle {kind}"
+                            ));
                         };
                         let Some(radius) = get_f64("-obstacle_radius")? else {
-                            return bad("option -obstacle_radius is required with -obstacle ball");
+                            return bad(format!(
+                                "option -obstacle_radius is required with -obstacle {kind}"
+                            ));
                         };
                         if radius <= 0.0 {
                             return bad(format!(
                                 "option -obstacle_radius: {radius} is not positive"
                             ));
                         }
-                        Obstacle::Ball { center, radius }
+                        if kind == "ball" {
+                            Obstacle::Ball { center, radius }
+                        } else {
+                            Obstacle::HalfBall { center, radius }
+                        }
                     }
                     Some(other) => {
                         return bad(format!(
-                            "option -obstacle: unknown obstacle '{other}' (plane, ball)"
+                            "option -obstacle: unknown obstacle '{other}' (plane, ball, halfball)"
                         ))
                     }
                 };

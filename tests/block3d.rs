@@ -9,6 +9,56 @@ fn block<'a>(file: &'a str, mesh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
     v
 }
 
+const MESHES: [(&str, f64); 5] = [
+    ("meshes/block3d_198.msh", 198.0),
+    ("meshes/block3d_739.msh", 739.0),
+    ("meshes/block3d_2357.msh", 2357.0),
+    ("meshes/block3d_10761.msh", 10761.0),
+    ("meshes/block3d_17887.msh", 17887.0),
+];
+
+/// Tables 5 and 6 on the five meshes, with the paper's Gamma_c (the whole
+/// bottom face, -obstacle halfball): UBR-C 30-50 iterations (paper 36-40),
+/// UBR-TF 35-70 (paper 45-50), CF-FP 4-12 fixed-point and 70-130 Tresca
+/// iterations (paper 6 and 91-94).
+#[test]
+fn tables5_6_iterations() {
+    for (mesh, paper_nodes) in MESHES {
+        let (run, r, rows) = solve_rows("t5", 2, &block("options/block3d", mesh, &[]));
+        let nodes = num(&r, "nodes");
+        assert!(
+            (nodes - paper_nodes).abs() < 0.03 * paper_nodes,
+            "{mesh}: {nodes} nodes"
+        );
+        // Every node of the bottom face is a candidate; few touch.
+        assert!(rows.iter().all(|x| (x.x[2] + 0.5).abs() < 1e-12));
+        assert!(rows.iter().filter(|x| x.status == "open").count() > rows.len() / 2);
+        let its = num(&r, "iterations");
+        assert!(
+            (30.0..=50.0).contains(&its),
+            "{mesh}: UBR-C {its}\n{}",
+            run.stdout
+        );
+
+        let (run, r, _) = solve_rows("t6tf", 2, &block("options/block3d-tresca", mesh, &[]));
+        let its = num(&r, "iterations");
+        assert!(
+            (35.0..=70.0).contains(&its),
+            "{mesh}: UBR-TF {its}\n{}",
+            run.stdout
+        );
+
+        let (run, r, _) = solve_rows("t6cf", 2, &block("options/block3d-coulomb", mesh, &[]));
+        let fp = num(&r, "fixed_point_iterations");
+        let inner = num(&r, "iterations");
+        assert!(
+            (4.0..=12.0).contains(&fp) && (70.0..=130.0).contains(&inner),
+            "{mesh}: CF-FP {fp} / {inner}\n{}",
+            run.stdout
+        );
+    }
+}
+
 /// The total vertical contact force converges under refinement; the independent
 /// peers found 98.3e3, 93.0e3, 88.2e3 on meshes of about 760, 2387, 10241 nodes.
 #[test]

@@ -129,3 +129,38 @@ fn ssn_without_initial_contact_says_why() {
     assert_eq!(run.status, Some(3), "{}", run.stderr);
     assert!(run.stderr.contains("-ssn_initial_shift"), "{}", run.stderr);
 }
+
+/// The same agreement in 3D, on the paper's block (held by its top face, so
+/// SSN-C needs no initial shift): UBR-C at a tight tolerance, SSN-C with
+/// r = 1e9 E (the penalized problem's distance to the exact one ~ 1/r), and
+/// SNES VI with the bound u_z >= g along the contact direction -z.
+#[test]
+fn ssn_snesvi_and_ubr_agree_in_3d() {
+    let block = |extra: &[&'static str]| -> Vec<&'static str> {
+        let mut v = vec![
+            "-options_file",
+            "options/block3d",
+            "-mesh",
+            "meshes/block3d_739.msh",
+        ];
+        v.extend_from_slice(extra);
+        v
+    };
+    let (_, r_ubr, ubr) = solve_rows("ubr3d_tight", 2, &block(&["-ubr_rtol", "1e-12"]));
+    let (_, r_ssn, ssn) = solve_rows(
+        "ssn3d_big_r",
+        2,
+        &block(&["-contact_algorithm", "ssn", "-ssn_r", "1e15"]),
+    );
+    let (_, r_vi, vi) = solve_rows("snesvi3d", 2, &block(&["-contact_algorithm", "snesvi"]));
+    for r in [&r_ubr, &r_ssn, &r_vi] {
+        assert_eq!(r["dimension"], serde_json::json!(3));
+        assert!(num(r, "equilibrium_residual_rel") <= 1e-8);
+    }
+    let d1 = max_rel_diff(&ubr, &ssn);
+    let d2 = max_rel_diff(&ssn, &vi);
+    let d3 = max_rel_diff(&ubr, &vi);
+    assert!(d1 <= 1e-6, "3D UBR-C vs SSN-C {d1}");
+    assert!(d2 <= 1e-6, "3D SSN-C vs SNES VI {d2}");
+    assert!(d3 <= 1e-6, "3D UBR-C vs SNES VI {d3}");
+}

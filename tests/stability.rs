@@ -723,7 +723,14 @@ fn single_contact_node() {
         2,
         &block(
             "options/block3d-coulomb",
-            &["-obstacle_center", "0.5,1,-0.6", "-obstacle_radius", "0.1"],
+            &[
+                "-obstacle",
+                "ball",
+                "-obstacle_center",
+                "0.5,1,-0.6",
+                "-obstacle_radius",
+                "0.1",
+            ],
         ),
     );
     assert_converged(&c, BLOCK_S, None);

@@ -50,11 +50,16 @@ pub fn cf_fp<C: Communicator>(
     let mut next = vec![0.0; s.len()];
     let mut out = CfFpOutcome::default();
     for m in 0..fp_max_it {
-        // The paper's variable inner tolerance eps_f^m = max(0.1^m, eps_f).
+        // The paper's variable inner tolerance eps_f^m = max(0.1^m, eps_f);
+        // our dual and tension tests loosen with it (an open node's stress is
+        // r (u_n^k - u_n^{k-1}) until u settles: at eps_f^0 = 1 a tension test
+        // at its final value would hold the first, frictionless, solve for
+        // tens of iterations).
         let eps = 0.1f64.powi(m as i32).max(ctl.rtol);
         let inner = UbrControl {
             rtol: eps,
             dual_rtol: ctl.dual_rtol * eps / ctl.rtol,
+            tension_tol: ctl.tension_tol * eps / ctl.rtol,
             ..*ctl
         };
         let run = ubr(world, problem, state, Some(&s), &inner, events)?;

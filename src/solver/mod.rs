@@ -26,6 +26,12 @@ pub fn allreduce_sum<C: Communicator, const N: usize>(world: &C, vals: [f64; N])
     out
 }
 
+pub fn allreduce_max_n<C: Communicator, const N: usize>(world: &C, vals: [f64; N]) -> [f64; N] {
+    let mut out = [0.0; N];
+    world.all_reduce_into(&vals[..], &mut out[..], SystemOperation::max());
+    out
+}
+
 pub fn allreduce_max<C: Communicator>(world: &C, v: f64) -> f64 {
     let mut out = 0.0;
     world.all_reduce_into(&v, &mut out, SystemOperation::max());
