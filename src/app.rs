@@ -371,6 +371,7 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                     },
                 )
                 .num("rho", settings.ubr.rho)
+                .int("anderson_memory", settings.ubr.anderson)
                 .num("rtol", settings.ubr.rtol)
                 .num("residual_tol", settings.ubr.residual_tol)
                 .int("iterations", solved.iterations)
@@ -808,6 +809,7 @@ fn solve<C: Communicator>(
         monitor: u.monitor,
         inner_rtol_factor: u.inner_rtol_factor,
         dual_rtol: u.dual_rtol,
+        anderson: u.anderson,
     };
     let nc = problem.contact.len();
     let nu_f = settings.friction_coefficient;
@@ -1211,6 +1213,12 @@ fn print_summary(m: &Summary) {
             s.ubr.rho,
             s.ubr.r / s.young
         );
+        if s.ubr.anderson > 0 {
+            println!(
+                "  Anderson        memory {} (safeguarded type II on (phi, lambda))",
+                s.ubr.anderson
+            );
+        }
     }
     if res.frictionless_iterations > 0 {
         println!(
