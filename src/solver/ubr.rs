@@ -214,7 +214,6 @@ struct Anderson {
     extrapolated: bool,
     /// ||f|| of the last accepted evaluation.
     ref_norm: f64,
-    restart_on_change: bool,
 }
 
 impl Anderson {
@@ -257,7 +256,6 @@ impl Anderson {
             recv: vec![0.0; nred],
             extrapolated: false,
             ref_norm: f64::INFINITY,
-            restart_on_change: std::env::var("UBR_AA_RESTART").is_ok(),
         }
     }
 
@@ -285,13 +283,7 @@ impl Anderson {
 
     /// After an evaluation `T(z)` (in `st`) whose residual is `fnorm`: the next z,
     /// written into `st`. Returns whether the evaluation was rejected.
-    fn step<C: Communicator>(
-        &mut self,
-        world: &C,
-        st: &mut UbrState,
-        fnorm: f64,
-        status_changed: bool,
-    ) -> bool {
+    fn step<C: Communicator>(&mut self, world: &C, st: &mut UbrState, fnorm: f64) -> bool {
         let nz = self.z.len();
         if self.extrapolated && !(fnorm <= ANDERSON_SAFEGUARD * self.ref_norm) {
             // Worse than the last accepted point: back to its plain step.
@@ -304,9 +296,6 @@ impl Anderson {
         }
         let mut g = std::mem::take(&mut self.g);
         self.gather(st, &mut g);
-        if self.restart_on_change && status_changed {
-            self.reset();
-        }
         // f = g - z, stored in z (z is not needed any more)
         for (zi, gi) in self.z.iter_mut().zip(&g) {
             *zi = gi - *zi;
@@ -509,8 +498,8 @@ pub fn ubr<C: Communicator>(
         let e = events.projection.begin();
         let st = &mut *state;
         let sums = st.u.read(|uv| {
-            // [9]: ||lambda^{k+1} - lambda^k||^2, [10]: nodes whose status changed
-            let mut s = [0.0f64; 11];
+            // [9]: ||lambda^{k+1} - lambda^k||^2 (the Anderson residual)
+            let mut s = [0.0f64; 10];
             // max tension, max |stress|
             let mut ext = [0.0f64; 2];
             // ||u^k - u^{k-1}||^2 and ||u^k||^2 with lumped mass
@@ -538,9 +527,6 @@ pub fn ubr<C: Communicator>(
                 s[4] += w * (uni - phi_new).powi(2);
                 s[8] += w * lambda_new * lambda_new;
                 s[9] += w * (lambda_new - st.lambda_n[i]).powi(2);
-                if st.in_contact[i] != contact {
-                    s[10] += 1.0;
-                }
                 st.un[i] = uni;
                 st.phi_n[i] = phi_new;
                 st.lambda_n[i] = lambda_new;
@@ -576,9 +562,6 @@ pub fn ubr<C: Communicator>(
                     for c in 0..d {
                         s[9] += w * (lam_t[c] - st.lambda_t[i * d + c]).powi(2);
                     }
-                    if st.slip[i] != slip {
-                        s[10] += 1.0;
-                    }
                     st.phi_t[t.clone()].copy_from_slice(&phi_t[..d]);
                     st.lambda_t[t].copy_from_slice(&lam_t[..d]);
                     s[8] += w * lam_t[..d].iter().map(|v| v * v).sum::<f64>();
@@ -606,7 +589,7 @@ pub fn ubr<C: Communicator>(
         } else {
             0.0
         };
-        let [du2, u2, dphi2, phi2, res2, ncontact, nstick, nslip, lam2, dlam2, changed] =
+        let [du2, u2, dphi2, phi2, res2, ncontact, nstick, nslip, lam2, dlam2] =
             allreduce_sum(world, sums);
         // The dual residual r ||phi^k - phi^{k-1}||, relative to ||lambda^{k+1}||:
         // the gap between the multiplier and the stress of u^k (4.7).
@@ -667,7 +650,7 @@ pub fn ubr<C: Communicator>(
         if let Some(aa) = aa.as_mut() {
             // The fixed-point residual ||T(z) - z|| in the norm of phi and lambda / r.
             let fnorm = (dphi2 + dlam2 / (r * r)).sqrt();
-            if aa.step(world, state, fnorm, changed > 0.0) {
+            if aa.step(world, state, fnorm) {
                 out.anderson_rejected += 1;
             }
         }
