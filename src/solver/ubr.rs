@@ -285,7 +285,8 @@ impl Anderson {
     /// written into `st`. Returns whether the evaluation was rejected.
     fn step<C: Communicator>(&mut self, world: &C, st: &mut UbrState, fnorm: f64) -> bool {
         let nz = self.z.len();
-        if self.extrapolated && !(fnorm <= ANDERSON_SAFEGUARD * self.ref_norm) {
+        let worse = fnorm.is_nan() || fnorm > ANDERSON_SAFEGUARD * self.ref_norm;
+        if self.extrapolated && worse {
             // Worse than the last accepted point: back to its plain step.
             self.reset();
             self.extrapolated = false;
@@ -382,7 +383,7 @@ fn cholesky_solve(a: &mut [f64], b: &mut [f64], m: usize) -> bool {
         for k in 0..j {
             dj -= a[j * m + k] * a[j * m + k];
         }
-        if !(dj > 0.0) {
+        if dj.is_nan() || dj <= 0.0 {
             return false;
         }
         let dj = dj.sqrt();
