@@ -42,7 +42,10 @@
 //! of the last accepted point; otherwise the iteration goes back to the plain
 //! step T(z) of that point and the memory is cleared. The stopping tests are
 //! evaluated, unchanged, on every evaluation of T. M = 0 runs the paper's
-//! iteration exactly.
+//! iteration exactly. Measured (hertz_37473, one rank, rtol 1e-8): 604 plain
+//! iterations, 107 / 82 / 59 with M = 5 / 10 / 20; restarting the memory when
+//! the contact set changes gave 97 / 88 / 69, no consistent gain, so the
+//! memory is only cleared by the safeguard.
 
 use super::{allreduce_sum, Problem};
 use crate::contact::{project_normal, project_tangential};
