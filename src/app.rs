@@ -371,6 +371,7 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                     },
                 )
                 .num("rho", settings.ubr.rho)
+                .int("anderson_memory", settings.ubr.anderson)
                 .num("rtol", settings.ubr.rtol)
                 .num("residual_tol", settings.ubr.residual_tol)
                 .int("iterations", solved.iterations)
@@ -809,6 +810,7 @@ fn solve<C: Communicator>(
         inner_rtol_factor: u.inner_rtol_factor,
         dual_rtol: u.dual_rtol,
         tension_tol: ubr::TENSION_TOL,
+        anderson: u.anderson,
     };
     let nc = problem.contact.len();
     let nu_f = settings.friction_coefficient;
@@ -1212,6 +1214,12 @@ fn print_summary(m: &Summary) {
             s.ubr.rho,
             s.ubr.r / s.young
         );
+        if s.ubr.anderson > 0 {
+            println!(
+                "  Anderson        memory {} (safeguarded type II on (phi, lambda))",
+                s.ubr.anderson
+            );
+        }
     }
     if res.frictionless_iterations > 0 {
         println!(

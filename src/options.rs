@@ -34,6 +34,7 @@ pub const HELP: &[(&str, &str, &str)] = &[
     ("-ubr_fp_rtol EPS", "1e-4", "fixed-point tolerance eps_fp of (5.7) (CF-FP)"),
     ("-ubr_fp_max_it N", "100", "maximum fixed-point iterations (CF-FP)"),
     ("-ubr_monitor", "false", "print one line per UBR iteration"),
+    ("-ubr_anderson M", "0", "memory of the safeguarded type-II Anderson acceleration of UBR on the contact-surface variables (phi, lambda); 0: the paper's plain iteration"),
     ("-ubr_inner_rtol_factor F", "0.1", "iterative solvers (inexact Uzawa): each inner solve reduces the residual of the previous iterate b - A u^{k-1} by F (a given -ksp_rtol wins)"),
     ("-ssn_r R", "1e3 E", "SSN-C parameter r of (7.1)"),
     ("-ssn_initial_shift ux,uy[,uz]", "0", "SSN-C initial guess u^0, the same at every node (the paper: 0,-0.01 for the floating Hertz body)"),
@@ -152,6 +153,8 @@ pub struct UbrSettings {
     pub monitor: bool,
     pub inner_rtol_factor: f64,
     pub dual_rtol: f64,
+    /// Anderson memory (0: the paper's plain iteration).
+    pub anderson: usize,
 }
 
 #[derive(Clone, Debug)]
@@ -443,6 +446,15 @@ impl Settings {
             fp_rtol,
             fp_max_it: get_usize("-ubr_fp_max_it", 100)?,
             monitor: get_bool("-ubr_monitor")?,
+            anderson: {
+                let m = get_usize("-ubr_anderson", 0)?;
+                if m > 100 {
+                    return bad(format!(
+                        "option -ubr_anderson: {m} is above 100 (a memory of 5-20 suffices)"
+                    ));
+                }
+                m
+            },
             dual_rtol: {
                 let v = get_f64("-ubr_dual_rtol")?.unwrap_or(10.0 * rtol);
                 if v <= 0.0 {

@@ -21,11 +21,37 @@
 //! returned displacement, so that the contact force balances the load to
 //! round-off at any iteration; they differ from `lambda^{k+1}` by
 //! `r (phi^k - phi^{k-1})`, which vanishes at convergence.
+//!
+//! Anderson acceleration (our addition, `-ubr_anderson M`, off by default).
+//! One iteration is a fixed-point map `z -> T(z)` on the contact-surface
+//! variables `z = (phi^{k-1}, lambda^k)` alone (u^k is a function of z), and T
+//! is piecewise affine and contracts slowly (about 0.995 per iteration at the
+//! paper's r = 0.11E). We accelerate it with safeguarded type-II Anderson
+//! acceleration (H. F. Walker, P. Ni, "Anderson acceleration for fixed-point
+//! iterations", SIAM J. Numer. Anal. 49 (2011) 1715-1735; the safeguard of
+//! J. Zhang, B. O'Donoghue, S. Boyd, "Globally convergent type-I Anderson
+//! acceleration for nonsmooth fixed-point iterations", SIAM J. Optim. 30
+//! (2020) 3170-3197, as SCS 2.x applies it to its ADMM map): with
+//! `f_j = T(z_j) - z_j`, the last M differences `dF`, `dG` of f and T(z),
+//! `gamma = argmin ||f_k - dF gamma||_W` and `z_{k+1} = T(z_k) - dG gamma`.
+//! The norm W is the Gamma_c norm of phi plus that of lambda / r (both
+//! displacements), so the Gram matrix `dF^T W dF` is a sum of local dot
+//! products reduced by one allreduce per iteration; every rank solves the
+//! same small regularized system and gets the same coefficients. Safeguard:
+//! an extrapolated point is kept only if its residual `||f||` is below that
+//! of the last accepted point; otherwise the iteration goes back to the plain
+//! step T(z) of that point and the memory is cleared. The stopping tests are
+//! evaluated, unchanged, on every evaluation of T. M = 0 runs the paper's
+//! iteration exactly. Measured (hertz_37473, one rank, rtol 1e-8): 604 plain
+//! iterations, 107 / 82 / 59 with M = 5 / 10 / 20; restarting the memory when
+//! the contact set changes gave 97 / 88 / 69, no consistent gain, so the
+//! memory is only cleared by the safeguard.
 
 use super::{allreduce_sum, Problem};
 use crate::contact::{project_normal, project_tangential};
 use crate::error::Error;
 use crate::petsc::Vector;
+use mpi::collective::SystemOperation;
 use mpi::traits::*;
 
 /// A converged contact stress is compressive: tension above this fraction of
@@ -135,6 +161,8 @@ pub struct UbrControl {
     /// Largest tensile contact stress accepted at convergence, relative to the
     /// largest stress ([`TENSION_TOL`]; CF-FP loosens it with eps_f^m).
     pub tension_tol: f64,
+    /// Anderson memory M (0: the paper's plain iteration).
+    pub anderson: usize,
 }
 
 /// What one UBR run did.
@@ -155,6 +183,245 @@ pub struct UbrOutcome {
     pub contact: usize,
     pub stick: usize,
     pub slip: usize,
+    /// Anderson: evaluations at an extrapolated point, and how many of them
+    /// the safeguard rejected.
+    pub anderson_steps: usize,
+    pub anderson_rejected: usize,
+}
+
+/// Safeguard factor: an extrapolated point is kept while its fixed-point
+/// residual is at most this times that of the last accepted point.
+const ANDERSON_SAFEGUARD: f64 = 1.0;
+/// Tikhonov regularization of the Gram matrix, relative to its largest diagonal entry.
+const ANDERSON_REGULARIZATION: f64 = 1e-10;
+/// Extrapolation coefficients larger than this are not trusted (a reset instead).
+const ANDERSON_MAX_WEIGHT: f64 = 1e8;
+
+/// The memory of the Anderson acceleration, allocated once per UBR run.
+struct Anderson {
+    mem: usize,
+    nc: usize,
+    d: usize,
+    tangential: bool,
+    /// Inner-product weights of z: w_i on phi, w_i / r^2 on lambda.
+    wz: Vec<f64>,
+    /// Input z of the current evaluation, and T(z).
+    z: Vec<f64>,
+    g: Vec<f64>,
+    /// f = T(z) - z and T(z) of the last accepted evaluation.
+    f_prev: Vec<f64>,
+    g_prev: Vec<f64>,
+    have_prev: bool,
+    /// Columns of dF and dG (a ring of `mem` columns, `count` filled, `next` to overwrite).
+    df: Vec<f64>,
+    dg: Vec<f64>,
+    count: usize,
+    next: usize,
+    gram: Vec<f64>,
+    gamma: Vec<f64>,
+    send: Vec<f64>,
+    recv: Vec<f64>,
+    /// Whether the current z is an extrapolated point.
+    extrapolated: bool,
+    /// ||f|| of the last accepted evaluation.
+    ref_norm: f64,
+}
+
+impl Anderson {
+    fn new(mem: usize, problem: &Problem, r: f64) -> Anderson {
+        let cs = &problem.contact;
+        let (nc, d) = (cs.len(), problem.dim);
+        let tangential = problem.tangential;
+        let per = if tangential { 1 + d } else { 1 };
+        let nz = 2 * nc * per;
+        let mut wz = vec![0.0; nz];
+        for i in 0..nc {
+            wz[i] = cs.w[i];
+            wz[nc * per + i] = cs.w[i] / (r * r);
+            if tangential {
+                for c in 0..d {
+                    wz[nc + i * d + c] = cs.w[i];
+                    wz[nc * per + nc + i * d + c] = cs.w[i] / (r * r);
+                }
+            }
+        }
+        let nred = mem * (mem + 1) / 2 + mem;
+        Anderson {
+            mem,
+            nc,
+            d,
+            tangential,
+            wz,
+            z: vec![0.0; nz],
+            g: vec![0.0; nz],
+            f_prev: vec![0.0; nz],
+            g_prev: vec![0.0; nz],
+            have_prev: false,
+            df: vec![0.0; nz * mem],
+            dg: vec![0.0; nz * mem],
+            count: 0,
+            next: 0,
+            gram: vec![0.0; mem * mem],
+            gamma: vec![0.0; mem],
+            send: vec![0.0; nred],
+            recv: vec![0.0; nred],
+            extrapolated: false,
+            ref_norm: f64::INFINITY,
+        }
+    }
+
+    /// z = (phi_n, phi_t, lambda_n, lambda_t) of the state into `out`.
+    fn gather(&self, st: &UbrState, out: &mut [f64]) {
+        let (nc, nt) = (self.nc, if self.tangential { self.nc * self.d } else { 0 });
+        out[..nc].copy_from_slice(&st.phi_n);
+        out[nc..nc + nt].copy_from_slice(&st.phi_t[..nt]);
+        out[nc + nt..2 * nc + nt].copy_from_slice(&st.lambda_n);
+        out[2 * nc + nt..].copy_from_slice(&st.lambda_t[..nt]);
+    }
+
+    fn scatter(&self, z: &[f64], st: &mut UbrState) {
+        let (nc, nt) = (self.nc, if self.tangential { self.nc * self.d } else { 0 });
+        st.phi_n.copy_from_slice(&z[..nc]);
+        st.phi_t[..nt].copy_from_slice(&z[nc..nc + nt]);
+        st.lambda_n.copy_from_slice(&z[nc + nt..2 * nc + nt]);
+        st.lambda_t[..nt].copy_from_slice(&z[2 * nc + nt..]);
+    }
+
+    fn reset(&mut self) {
+        self.count = 0;
+        self.next = 0;
+    }
+
+    /// After an evaluation `T(z)` (in `st`) whose residual is `fnorm`: the next z,
+    /// written into `st`. Returns whether the evaluation was rejected.
+    fn step<C: Communicator>(&mut self, world: &C, st: &mut UbrState, fnorm: f64) -> bool {
+        let nz = self.z.len();
+        let worse = fnorm.is_nan() || fnorm > ANDERSON_SAFEGUARD * self.ref_norm;
+        if self.extrapolated && worse {
+            // Worse than the last accepted point: back to its plain step.
+            self.reset();
+            self.extrapolated = false;
+            let g_prev = std::mem::take(&mut self.g_prev);
+            self.scatter(&g_prev, st);
+            self.g_prev = g_prev;
+            return true;
+        }
+        let mut g = std::mem::take(&mut self.g);
+        self.gather(st, &mut g);
+        // f = g - z, stored in z (z is not needed any more)
+        for (zi, gi) in self.z.iter_mut().zip(&g) {
+            *zi = gi - *zi;
+        }
+        if self.have_prev {
+            let col = self.next * nz..(self.next + 1) * nz;
+            for (j, x) in col.clone().enumerate() {
+                self.df[x] = self.z[j] - self.f_prev[j];
+                self.dg[x] = g[j] - self.g_prev[j];
+            }
+            self.next = (self.next + 1) % self.mem;
+            self.count = (self.count + 1).min(self.mem);
+        }
+        self.f_prev.copy_from_slice(&self.z);
+        self.g_prev.copy_from_slice(&g);
+        self.have_prev = true;
+        self.ref_norm = fnorm;
+        self.g = g;
+        let m = self.count;
+        self.extrapolated = false;
+        if m == 0 || fnorm == 0.0 {
+            return false; // the plain step: the state holds T(z)
+        }
+        // Gram matrix dF^T W dF (upper triangle) and dF^T W f: one reduction.
+        let mut p = 0;
+        for a in 0..m {
+            let ca = &self.df[a * nz..(a + 1) * nz];
+            for b in a..m {
+                let cb = &self.df[b * nz..(b + 1) * nz];
+                self.send[p] = (0..nz).map(|j| self.wz[j] * ca[j] * cb[j]).sum();
+                p += 1;
+            }
+            self.send[p] = (0..nz).map(|j| self.wz[j] * ca[j] * self.f_prev[j]).sum();
+            p += 1;
+        }
+        world.all_reduce_into(&self.send[..p], &mut self.recv[..p], SystemOperation::sum());
+        let mut p = 0;
+        let mut diag_max = 0.0f64;
+        for a in 0..m {
+            for b in a..m {
+                self.gram[a * m + b] = self.recv[p];
+                self.gram[b * m + a] = self.recv[p];
+                p += 1;
+            }
+            self.gamma[a] = self.recv[p];
+            p += 1;
+            diag_max = diag_max.max(self.gram[a * m + a]);
+        }
+        let reg = ANDERSON_REGULARIZATION * diag_max + f64::MIN_POSITIVE;
+        for a in 0..m {
+            self.gram[a * m + a] += reg;
+        }
+        let ok = cholesky_solve(&mut self.gram[..m * m], &mut self.gamma[..m], m)
+            && self.gamma[..m]
+                .iter()
+                .all(|x| x.is_finite() && x.abs() <= ANDERSON_MAX_WEIGHT);
+        if !ok {
+            self.reset();
+            return false;
+        }
+        // z_{k+1} = T(z_k) - dG gamma
+        self.z.copy_from_slice(&self.g);
+        for a in 0..m {
+            let ga = self.gamma[a];
+            let ca = &self.dg[a * nz..(a + 1) * nz];
+            for (zj, cj) in self.z.iter_mut().zip(ca) {
+                *zj -= ga * cj;
+            }
+        }
+        let z = std::mem::take(&mut self.z);
+        self.scatter(&z, st);
+        self.z = z;
+        self.extrapolated = true;
+        false
+    }
+}
+
+/// Solves `a x = b` in place (a: m x m symmetric positive definite, row-major,
+/// overwritten by its Cholesky factor; b overwritten by x). False if a pivot
+/// is not positive.
+fn cholesky_solve(a: &mut [f64], b: &mut [f64], m: usize) -> bool {
+    for j in 0..m {
+        let mut dj = a[j * m + j];
+        for k in 0..j {
+            dj -= a[j * m + k] * a[j * m + k];
+        }
+        if dj.is_nan() || dj <= 0.0 {
+            return false;
+        }
+        let dj = dj.sqrt();
+        a[j * m + j] = dj;
+        for i in j + 1..m {
+            let mut v = a[i * m + j];
+            for k in 0..j {
+                v -= a[i * m + k] * a[j * m + k];
+            }
+            a[i * m + j] = v / dj;
+        }
+    }
+    for i in 0..m {
+        let mut v = b[i];
+        for k in 0..i {
+            v -= a[i * m + k] * b[k];
+        }
+        b[i] = v / a[i * m + i];
+    }
+    for i in (0..m).rev() {
+        let mut v = b[i];
+        for k in i + 1..m {
+            v -= a[k * m + i] * b[k];
+        }
+        b[i] = v / a[i * m + i];
+    }
+    true
 }
 
 /// Runs UBR-C (`friction_bound` = None, the problem assembled without the
@@ -192,8 +459,17 @@ pub fn ubr<C: Communicator>(
             println!("  {name}   it   rel. change (4.16)  ||Bu - phi||      contact");
         }
     }
+    let mut aa = (ctl.anderson > 0).then(|| Anderson::new(ctl.anderson, problem, r));
     let mut k = 0;
     while k < ctl.max_it {
+        if let Some(aa) = aa.as_mut() {
+            let mut z = std::mem::take(&mut aa.z);
+            aa.gather(state, &mut z);
+            aa.z = z;
+            if aa.extrapolated {
+                out.anderson_steps += 1;
+            }
+        }
         // Step 1: the elasticity subproblem (4.5)/(5.3); only the right-hand side changes.
         {
             let _e = events.rhs.begin();
@@ -234,7 +510,8 @@ pub fn ubr<C: Communicator>(
         let e = events.projection.begin();
         let st = &mut *state;
         let sums = st.u.read(|uv| {
-            let mut s = [0.0f64; 9];
+            // [9]: ||lambda^{k+1} - lambda^k||^2 (the Anderson residual)
+            let mut s = [0.0f64; 10];
             // max tension, max |stress|, max |u_n|
             let mut ext = [0.0f64; 3];
             // ||u^k - u^{k-1}||^2 and ||u^k||^2 with lumped mass
@@ -261,10 +538,11 @@ pub fn ubr<C: Communicator>(
                 s[2] += w * (phi_new - st.phi_n[i]).powi(2);
                 s[3] += w * phi_new * phi_new;
                 s[4] += w * (uni - phi_new).powi(2);
+                s[8] += w * lambda_new * lambda_new;
+                s[9] += w * (lambda_new - st.lambda_n[i]).powi(2);
                 st.un[i] = uni;
                 st.phi_n[i] = phi_new;
                 st.lambda_n[i] = lambda_new;
-                s[8] += w * lambda_new * lambda_new;
                 st.in_contact[i] = contact;
                 let mut ut = [0.0; 3];
                 for c in 0..d {
@@ -294,6 +572,9 @@ pub fn ubr<C: Communicator>(
                         s[3] += w * phi_t[c] * phi_t[c];
                         s[4] += w * (ut[c] - phi_t[c]).powi(2);
                     }
+                    for c in 0..d {
+                        s[9] += w * (lam_t[c] - st.lambda_t[i * d + c]).powi(2);
+                    }
                     st.phi_t[t.clone()].copy_from_slice(&phi_t[..d]);
                     st.lambda_t[t].copy_from_slice(&lam_t[..d]);
                     s[8] += w * lam_t[..d].iter().map(|v| v * v).sum::<f64>();
@@ -321,7 +602,7 @@ pub fn ubr<C: Communicator>(
             0.0
         };
         state.peak_stress = state.peak_stress.max(largest);
-        let [du2, u2, dphi2, phi2, res2, ncontact, nstick, nslip, lam2] =
+        let [du2, u2, dphi2, phi2, res2, ncontact, nstick, nslip, lam2, dlam2] =
             allreduce_sum(world, sums);
         // The dual residual r ||phi^k - phi^{k-1}||, relative to ||lambda^{k+1}||:
         // the gap between the multiplier and the stress of u^k (4.7).
@@ -388,6 +669,19 @@ pub fn ubr<C: Communicator>(
             out.converged = true;
             break;
         }
+        if let Some(aa) = aa.as_mut() {
+            // The fixed-point residual ||T(z) - z|| in the norm of phi and lambda / r.
+            let fnorm = (dphi2 + dlam2 / (r * r)).sqrt();
+            if aa.step(world, state, fnorm) {
+                out.anderson_rejected += 1;
+            }
+        }
+    }
+    if root && ctl.monitor && aa.is_some() {
+        println!(
+            "  {name}: Anderson: {} of {} evaluations at extrapolated points, {} rejected by the safeguard",
+            out.anderson_steps, out.iterations, out.anderson_rejected
+        );
     }
     Ok(out)
 }
