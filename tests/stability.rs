@@ -78,28 +78,13 @@ impl Case {
         )
         .unwrap_or_else(|e| panic!("{}: report is not JSON: {e}", self.name))
     }
-    /// The contact CSV's rows (as common::contact_rows, from the text).
+    /// The contact CSV's rows.
     fn rows(&self) -> Vec<Row> {
-        let text = self
-            .csv_text
-            .as_deref()
-            .unwrap_or_else(|| panic!("{}: no contact CSV", self.name));
-        text.lines()
-            .skip(1)
-            .map(|l| {
-                let f: Vec<&str> = l.split(',').collect();
-                let v = |i: usize| -> f64 { f[i].parse().unwrap() };
-                Row {
-                    node: f[0].parse().unwrap(),
-                    x: [v(1), v(2), v(3)],
-                    un: v(6),
-                    ut: [v(7), v(8), v(9)],
-                    lambda_n: v(10),
-                    lambda_t: [v(11), v(12), v(13)],
-                    status: f[14].to_string(),
-                }
-            })
-            .collect()
+        parse_rows(
+            self.csv_text
+                .as_deref()
+                .unwrap_or_else(|| panic!("{}: no contact CSV", self.name)),
+        )
     }
     fn context(&self) -> String {
         format!(

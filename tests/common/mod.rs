@@ -139,7 +139,11 @@ pub struct Row {
 }
 
 pub fn contact_rows(path: &Path) -> Vec<Row> {
-    let text = std::fs::read_to_string(path).unwrap();
+    parse_rows(&std::fs::read_to_string(path).unwrap())
+}
+
+/// The rows of a contact CSV's text (the header line skipped).
+pub fn parse_rows(text: &str) -> Vec<Row> {
     text.lines()
         .skip(1)
         .map(|l| {
