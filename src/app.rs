@@ -372,6 +372,10 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                 )
                 .num("rho", settings.ubr.rho)
                 .int("anderson_memory", settings.ubr.anderson)
+                .int(
+                    "condensed_unknowns",
+                    problem.condensed.as_ref().map_or(0, |c| c.y0.len()),
+                )
                 .num("rtol", settings.ubr.rtol)
                 .num("residual_tol", settings.ubr.residual_tol)
                 .int("iterations", solved.iterations)

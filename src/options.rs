@@ -35,6 +35,7 @@ pub const HELP: &[(&str, &str, &str)] = &[
     ("-ubr_fp_max_it N", "100", "maximum fixed-point iterations (CF-FP)"),
     ("-ubr_monitor", "false", "print one line per UBR iteration"),
     ("-ubr_anderson M", "0", "memory of the safeguarded type-II Anderson acceleration of UBR on the contact-surface variables (phi, lambda); 0: the paper's plain iteration"),
+    ("-ubr_condense_max P", "2000 in 2D, 0 in 3D", "one rank, MUMPS factorization: condense each UBR solve onto the P or fewer unknowns of the contact nodes (Schur complement from the one factorization, a dense solve per iteration; the whole displacement only where the other stopping tests pass, and at the end; not with -ubr_monitor, -plot_history); 0: a full sparse solve per iteration"),
     ("-ubr_inner_rtol_factor F", "0.1", "iterative solvers (inexact Uzawa): each inner solve reduces the residual of the previous iterate b - A u^{k-1} by F (a given -ksp_rtol wins)"),
     ("-ssn_r R", "1e3 E", "SSN-C parameter r of (7.1)"),
     ("-ssn_initial_shift ux,uy[,uz]", "0", "SSN-C initial guess u^0, the same at every node (the paper: 0,-0.01 for the floating Hertz body)"),
@@ -155,6 +156,9 @@ pub struct UbrSettings {
     pub dual_rtol: f64,
     /// Anderson memory (0: the paper's plain iteration).
     pub anderson: usize,
+    /// Condense the UBR solve onto the contact unknowns when there are at
+    /// most this many (None: the default of the dimension, see `-help`).
+    pub condense_max: Option<usize>,
 }
 
 #[derive(Clone, Debug)]
@@ -454,6 +458,10 @@ impl Settings {
                     ));
                 }
                 m
+            },
+            condense_max: match get("-ubr_condense_max")? {
+                None => None,
+                Some(_) => Some(get_usize("-ubr_condense_max", 0)?),
             },
             dual_rtol: {
                 let v = get_f64("-ubr_dual_rtol")?.unwrap_or(10.0 * rtol);

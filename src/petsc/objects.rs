@@ -38,6 +38,19 @@ impl Vector {
         }
     }
 
+    /// A sequential vector of `n` entries on this rank alone.
+    pub fn new_seq(n: usize) -> Result<Vector, Error> {
+        let mut raw: sys::Vec = std::ptr::null_mut();
+        unsafe {
+            check(sys::VecCreateSeq(
+                super::comm_self(),
+                n as sys::PetscInt,
+                &mut raw,
+            ))?
+        };
+        Ok(Vector { raw })
+    }
+
     pub fn duplicate(&self) -> Result<Vector, Error> {
         let mut raw: sys::Vec = std::ptr::null_mut();
         unsafe { check(sys::VecDuplicate(self.raw, &mut raw))? };
@@ -376,6 +389,55 @@ impl Ksp {
         Ok(its as usize)
     }
 
+    /// Asks the direct factorization of this KSP (before [`Ksp::set_up`]) to
+    /// also compute the dense Schur complement on the unknowns `indices`
+    /// (global numbers; MUMPS, which PETSc 3.18 supports on one rank).
+    pub fn request_schur(&self, indices: &[sys::PetscInt]) -> Result<(), Error> {
+        let mut pc: sys::PC = std::ptr::null_mut();
+        let mut factor: sys::Mat = std::ptr::null_mut();
+        let mut is: sys::IS = std::ptr::null_mut();
+        unsafe {
+            check(sys::KSPGetPC(self.raw, &mut pc))?;
+            check(sys::PCFactorSetUpMatSolverType(pc))?;
+            check(sys::PCFactorGetMatrix(pc, &mut factor))?;
+            check(sys::ISCreateGeneral(
+                super::comm_self(),
+                indices.len() as sys::PetscInt,
+                indices.as_ptr(),
+                sys::PETSC_COPY_VALUES,
+                &mut is,
+            ))?;
+            let r = sys::MatFactorSetSchurIS(factor, is);
+            sys::ISDestroy(&mut is);
+            check(r)
+        }
+    }
+
+    /// After [`Ksp::set_up`] with [`Ksp::request_schur`]: factorizes the
+    /// Schur complement S (dense LAPACK) and returns its solver.
+    pub fn schur(&self, size: usize) -> Result<SchurSolver, Error> {
+        let mut pc: sys::PC = std::ptr::null_mut();
+        let mut factor: sys::Mat = std::ptr::null_mut();
+        unsafe {
+            check(sys::KSPGetPC(self.raw, &mut pc))?;
+            check(sys::PCFactorGetMatrix(pc, &mut factor))?;
+            check(sys::PetscObjectReference(factor as sys::PetscObject))?;
+        }
+        let solver = SchurSolver {
+            factor,
+            rhs: Vector::new_seq(size)?,
+            sol: Vector::new_seq(size)?,
+        };
+        unsafe { check(sys::MatFactorFactorizeSchurComplement(solver.factor))? };
+        Ok(solver)
+    }
+
+    /// Solves `A X = B` for all columns at once (`KSPMatSolve`; a direct
+    /// factorization solves them in one pass over its factors).
+    pub fn mat_solve(&self, b: &DenseColumns, x: &DenseColumns) -> Result<(), Error> {
+        unsafe { check(sys::KSPMatSolve(self.raw, b.raw, x.raw)) }
+    }
+
     pub fn pc_type(&self) -> Result<String, Error> {
         let mut pc: sys::PC = std::ptr::null_mut();
         let mut t: sys::PCType = std::ptr::null();
@@ -398,6 +460,94 @@ impl Ksp {
         } else {
             unsafe { CStr::from_ptr(t).to_string_lossy().into_owned() }
         })
+    }
+}
+
+/// A dense matrix of `cols` columns distributed by rows like a vector with
+/// `local` entries on this rank (many right-hand sides at once).
+pub struct DenseColumns {
+    raw: sys::Mat,
+    local: usize,
+    cols: usize,
+}
+
+impl Drop for DenseColumns {
+    fn drop(&mut self) {
+        unsafe {
+            sys::MatDestroy(&mut self.raw);
+        }
+    }
+}
+
+impl DenseColumns {
+    pub fn new(comm: sys::MPI_Comm, local: usize, cols: usize) -> Result<DenseColumns, Error> {
+        let mut raw: sys::Mat = std::ptr::null_mut();
+        unsafe {
+            check(sys::MatCreateDense(
+                comm,
+                local as sys::PetscInt,
+                sys::PETSC_DECIDE,
+                sys::PETSC_DETERMINE,
+                cols as sys::PetscInt,
+                std::ptr::null_mut(),
+                &mut raw,
+            ))?
+        };
+        Ok(DenseColumns { raw, local, cols })
+    }
+
+    /// This rank's rows, column-major (column j at `j * local`).
+    pub fn write<R>(&self, f: impl FnOnce(&mut [f64]) -> R) -> Result<R, Error> {
+        let mut a: *mut f64 = std::ptr::null_mut();
+        let mut lda: sys::PetscInt = 0;
+        unsafe {
+            check(sys::MatDenseGetLDA(self.raw, &mut lda))?;
+            assert_eq!(lda as usize, self.local, "dense columns are contiguous");
+            check(sys::MatDenseGetArray(self.raw, &mut a))?;
+            let r = f(std::slice::from_raw_parts_mut(a, self.local * self.cols));
+            check(sys::MatDenseRestoreArray(self.raw, &mut a))?;
+            Ok(r)
+        }
+    }
+
+    pub fn read<R>(&self, f: impl FnOnce(&[f64]) -> R) -> Result<R, Error> {
+        let mut a: *const f64 = std::ptr::null();
+        unsafe {
+            check(sys::MatDenseGetArrayRead(self.raw, &mut a))?;
+            let r = f(std::slice::from_raw_parts(a, self.local * self.cols));
+            check(sys::MatDenseRestoreArrayRead(self.raw, &mut a))?;
+            Ok(r)
+        }
+    }
+}
+
+/// Solves with the Schur complement S of a factorization on its unknowns.
+pub struct SchurSolver {
+    factor: sys::Mat,
+    rhs: Vector,
+    sol: Vector,
+}
+
+impl Drop for SchurSolver {
+    fn drop(&mut self) {
+        unsafe {
+            sys::MatDestroy(&mut self.factor);
+        }
+    }
+}
+
+impl SchurSolver {
+    /// `x = S^{-1} b` (b and x in the order of the Schur unknowns).
+    pub fn solve(&self, b: &[f64], x: &mut [f64]) -> Result<(), Error> {
+        self.rhs.write(|v| v.copy_from_slice(b))?;
+        unsafe {
+            check(sys::MatFactorSolveSchurComplement(
+                self.factor,
+                self.rhs.raw,
+                self.sol.raw,
+            ))?
+        };
+        self.sol.read(|v| x.copy_from_slice(v))
     }
 }
 

@@ -50,7 +50,7 @@
 use super::{allreduce_sum, Problem};
 use crate::contact::{project_normal, project_tangential};
 use crate::error::Error;
-use crate::petsc::Vector;
+use crate::petsc::{DenseColumns, Vector};
 use mpi::collective::SystemOperation;
 use mpi::traits::*;
 
@@ -79,6 +79,17 @@ pub struct UbrState {
     pub slip: Vec<bool>,
     pub u: Vector,
     u_prev: Vec<f64>,
+    /// Evaluations of the UBR map so far, and the one whose whole
+    /// displacement `u_prev` is (a condensed iteration only computes u at the
+    /// contact nodes; 0: the initial u = 0).
+    evaluations: usize,
+    u_prev_of: usize,
+    /// Contact part `B^T W (r phi - lambda)` of the right-hand side of this
+    /// evaluation and of the previous one, and u at the contact nodes
+    /// (candidate i, component c at `i * dim + c`).
+    c: Vec<f64>,
+    c_prev: Vec<f64>,
+    uc: Vec<f64>,
     rhs: Vector,
     /// Inner (KSP) iterations of every outer iteration so far.
     pub inner_iterations: Vec<usize>,
@@ -111,6 +122,11 @@ impl UbrState {
             rhs: problem.rhs0.duplicate()?,
             u,
             u_prev: vec![0.0; problem.is_dirichlet.len()],
+            evaluations: 0,
+            u_prev_of: 0,
+            c: vec![0.0; nc * d],
+            c_prev: vec![0.0; nc * d],
+            uc: vec![0.0; nc * d],
             inner_iterations: Vec::new(),
             history: Vec::new(),
             peak_stress: 0.0,
@@ -125,6 +141,34 @@ impl UbrState {
         &self.rhs
     }
 
+    /// With `u` the whole displacement of this evaluation: the local sums of
+    /// `||u^k - u^{k-1}||^2` and `||u^k||^2` (lumped mass), then `u^{k-1} = u^k`;
+    /// with `extract`, also u at the contact nodes.
+    fn update_full_norms(&mut self, problem: &Problem, extract: bool) -> Result<(f64, f64), Error> {
+        let d = self.dim;
+        let (u_prev, uc) = (&mut self.u_prev, &mut self.uc);
+        let sums = self.u.read(|uv| {
+            let (mut du2, mut u2) = (0.0, 0.0);
+            for (j, m) in problem.lumped_mass.iter().enumerate() {
+                for c in 0..d {
+                    let x = uv[j * d + c];
+                    let dx = x - u_prev[j * d + c];
+                    du2 += m * dx * dx;
+                    u2 += m * x * x;
+                }
+            }
+            u_prev.copy_from_slice(uv);
+            if extract {
+                for (i, &v) in problem.contact.node.iter().enumerate() {
+                    uc[i * d..(i + 1) * d].copy_from_slice(&uv[v * d..(v + 1) * d]);
+                }
+            }
+            (du2, u2)
+        })?;
+        self.u_prev_of = self.evaluations;
+        Ok(sums)
+    }
+
     /// Back to the paper's initialization (a cold start).
     pub fn reset(&mut self) -> Result<(), Error> {
         for v in [
@@ -137,9 +181,14 @@ impl UbrState {
             &mut self.un,
             &mut self.ut,
             &mut self.u_prev,
+            &mut self.c,
+            &mut self.c_prev,
+            &mut self.uc,
         ] {
             v.iter_mut().for_each(|x| *x = 0.0);
         }
+        self.evaluations = 0;
+        self.u_prev_of = 0;
         self.peak_stress = 0.0;
         self.u.set(0.0)
     }
@@ -424,6 +473,219 @@ fn cholesky_solve(a: &mut [f64], b: &mut [f64], m: usize) -> bool {
     true
 }
 
+/// Solves (4.5)/(5.3) for the whole displacement: `state.u` from the
+/// right-hand side `rhs0 + c`. Returns the inner iteration count.
+fn full_solve(problem: &Problem, state: &mut UbrState) -> Result<usize, Error> {
+    let d = problem.dim;
+    let cs = &problem.contact;
+    state.rhs.copy_from(&problem.rhs0)?;
+    let c = &state.c;
+    state.rhs.write(|b| {
+        for (i, &v) in cs.node.iter().enumerate() {
+            for k in 0..d {
+                b[v * d + k] += c[i * d + k];
+            }
+        }
+    })?;
+    problem.ksp.solve(&state.rhs, &state.u)
+}
+
+/// The contact-surface part of the state after one evaluation: enough to
+/// go back to a condensed iteration whose stopping test is decided later.
+struct Snapshot {
+    arrays: [Vec<f64>; 11],
+    in_contact: Vec<bool>,
+    slip: Vec<bool>,
+    evaluations: usize,
+    peak_stress: f64,
+}
+
+impl UbrState {
+    fn arrays_mut(&mut self) -> [&mut Vec<f64>; 11] {
+        [
+            &mut self.phi_n,
+            &mut self.phi_t,
+            &mut self.lambda_n,
+            &mut self.lambda_t,
+            &mut self.stress_n,
+            &mut self.stress_t,
+            &mut self.un,
+            &mut self.ut,
+            &mut self.c,
+            &mut self.c_prev,
+            &mut self.uc,
+        ]
+    }
+
+    fn snapshot(&mut self) -> Snapshot {
+        Snapshot {
+            arrays: self.arrays_mut().map(|v| v.clone()),
+            in_contact: self.in_contact.clone(),
+            slip: self.slip.clone(),
+            evaluations: self.evaluations,
+            peak_stress: self.peak_stress,
+        }
+    }
+
+    fn restore(&mut self, snap: Snapshot) {
+        for (v, saved) in self.arrays_mut().into_iter().zip(snap.arrays) {
+            *v = saved;
+        }
+        self.in_contact = snap.in_contact;
+        self.slip = snap.slip;
+        self.evaluations = snap.evaluations;
+        self.peak_stress = snap.peak_stress;
+    }
+}
+
+/// A condensed evaluation whose stopping tests, but for the change
+/// (4.16)/(5.6), are decided (`others_ok`), or the last one of the run.
+struct Candidate {
+    /// Its position in `state.history` and `state.inner_iterations`.
+    index: usize,
+    others_ok: bool,
+    /// `||phi^k - phi^{k-1}||^2` and `||phi^k||^2` (global sums).
+    dphi2: f64,
+    phi2: f64,
+    out: UbrOutcome,
+    snap: Snapshot,
+}
+
+/// Right-hand sides solved together when deciding candidates: first 4, then
+/// twice as many each time (the condensed iterations past the first
+/// converged candidate are cheap and undone).
+const FIRST_BATCH: usize = 4;
+const MAX_BATCH: usize = 32;
+
+/// Decides the pending condensed candidates: the whole displacement of each
+/// (and of its predecessor, unless known) from one solve with many
+/// right-hand sides, checked against the condensed values at the contact
+/// nodes, then the change (4.16)/(5.6) of each in turn. Unless the two
+/// disagree, `state.u` and `u_prev` are then the displacement of the first
+/// candidate that passes every test, else of the last candidate.
+fn resolve<C: Communicator>(
+    world: &C,
+    problem: &Problem,
+    state: &mut UbrState,
+    pending: &mut [Candidate],
+    rtol: f64,
+) -> Result<Resolution, Error> {
+    let d = problem.dim;
+    let cs = &problem.contact;
+    let n = state.u_prev.len();
+    // Columns: for each candidate, its predecessor's displacement (None:
+    // u_prev) and its own.
+    let mut rhs: Vec<&[f64]> = Vec::new();
+    let mut prev_col = Vec::with_capacity(pending.len());
+    let mut own_col: Vec<usize> = Vec::with_capacity(pending.len());
+    for (i, cand) in pending.iter().enumerate() {
+        let e = cand.snap.evaluations;
+        let prev = if e == state.u_prev_of + 1 {
+            None
+        } else if i > 0 && pending[i - 1].snap.evaluations + 1 == e {
+            Some(own_col[i - 1])
+        } else {
+            rhs.push(&cand.snap.arrays[9]); // c_prev
+            Some(rhs.len() - 1)
+        };
+        prev_col.push(prev);
+        rhs.push(&cand.snap.arrays[8]); // c
+        own_col.push(rhs.len() - 1);
+    }
+    let comm = crate::petsc::comm_world();
+    let b = DenseColumns::new(comm, n, rhs.len())?;
+    let x = DenseColumns::new(comm, n, rhs.len())?;
+    problem.rhs0.read(|r0| {
+        b.write(|bb| {
+            for (j, c) in rhs.iter().enumerate() {
+                let col = &mut bb[j * n..(j + 1) * n];
+                col.copy_from_slice(r0);
+                for (i, &v) in cs.node.iter().enumerate() {
+                    for k in 0..d {
+                        col[v * d + k] += c[i * d + k];
+                    }
+                }
+            }
+        })
+    })??;
+    problem.ksp.mat_solve(&b, &x)?;
+    let mut found = None;
+    let mut chosen = pending.len() - 1;
+    let inconsistent = x.read(|xx| -> Result<Option<String>, Error> {
+        for (i, cand) in pending.iter_mut().enumerate() {
+            let u = &xx[own_col[i] * n..(own_col[i] + 1) * n];
+            let up = match prev_col[i] {
+                None => &state.u_prev[..],
+                Some(j) => &xx[j * n..(j + 1) * n],
+            };
+            let uc = &cand.snap.arrays[10];
+            let (mut diff, mut scale) = (0.0f64, 0.0f64);
+            for (l, &v) in cs.node.iter().enumerate() {
+                for k in 0..d {
+                    diff = diff.max((u[v * d + k] - uc[l * d + k]).abs());
+                    scale = scale.max(u[v * d + k].abs());
+                }
+            }
+            if diff.is_nan() || diff > 1e-6 * scale {
+                return Ok(Some(format!(
+                    "the condensed solve differs from the full one by {diff:.3e} at the \
+                     contact nodes (displacements up to {scale:.3e}): is the body held?"
+                )));
+            }
+            let (mut du2, mut u2) = (0.0, 0.0);
+            for (j, m) in problem.lumped_mass.iter().enumerate() {
+                for k in 0..d {
+                    let dx = u[j * d + k] - up[j * d + k];
+                    du2 += m * dx * dx;
+                    u2 += m * u[j * d + k] * u[j * d + k];
+                }
+            }
+            let [du2, u2] = allreduce_sum(world, [du2, u2]);
+            cand.out.criterion = if u2 + cand.phi2 > 0.0 {
+                ((du2 + cand.dphi2) / (u2 + cand.phi2)).sqrt()
+            } else {
+                0.0
+            };
+            if !cand.out.criterion.is_finite() {
+                return Err(Error::NotConverged(format!(
+                    "UBR produced a non-finite iterate at iteration {}",
+                    cand.out.iterations
+                )));
+            }
+            if cand.others_ok && cand.out.criterion < rtol {
+                found = Some(i);
+                chosen = i;
+                break;
+            }
+        }
+        let u = &xx[own_col[chosen] * n..(own_col[chosen] + 1) * n];
+        state.u_prev.copy_from_slice(u);
+        Ok(None)
+    })??;
+    if let Some(why) = inconsistent {
+        return Ok(Resolution::Inconsistent(why));
+    }
+    state.u_prev_of = pending[chosen].snap.evaluations;
+    let u_prev = &state.u_prev;
+    state.u.write(|u| u.copy_from_slice(u_prev))?;
+    Ok(match found {
+        Some(i) => Resolution::Converged(i),
+        None => Resolution::Open,
+    })
+}
+
+/// What deciding a batch of candidates found.
+enum Resolution {
+    /// The candidate at this position passes every test.
+    Converged(usize),
+    /// None does.
+    Open,
+    /// The condensed and the full solves disagree (a matrix singular or
+    /// nearly so, e.g. a body that nothing holds): the run goes on without
+    /// condensation.
+    Inconsistent(String),
+}
+
 /// Runs UBR-C (`friction_bound` = None, the problem assembled without the
 /// tangential term) or UBR-TF (`Some(s)`, one bound per candidate) from `state`.
 #[allow(clippy::needless_range_loop)] // per-candidate arrays indexed together
@@ -460,6 +722,9 @@ pub fn ubr<C: Communicator>(
         }
     }
     let mut aa = (ctl.anderson > 0).then(|| Anderson::new(ctl.anderson, problem, r));
+    let mut condensed = problem.condensed.as_ref();
+    let mut pending: Vec<Candidate> = Vec::new();
+    let mut batch = FIRST_BATCH;
     let mut k = 0;
     while k < ctl.max_it {
         if let Some(aa) = aa.as_mut() {
@@ -470,28 +735,26 @@ pub fn ubr<C: Communicator>(
                 out.anderson_steps += 1;
             }
         }
-        // Step 1: the elasticity subproblem (4.5)/(5.3); only the right-hand side changes.
+        // Step 1: the elasticity subproblem (4.5)/(5.3); only the right-hand
+        // side changes, by c = B^T W (r phi^{k-1} - lambda^k) on the contact nodes.
+        std::mem::swap(&mut state.c, &mut state.c_prev);
+        state.evaluations += 1;
         {
             let _e = events.rhs.begin();
-            state.rhs.copy_from(&problem.rhs0)?;
-            let (phi_n, lambda_n, phi_t, lambda_t) =
-                (&state.phi_n, &state.lambda_n, &state.phi_t, &state.lambda_t);
-            state.rhs.write(|b| {
-                for i in 0..nc {
-                    let w = cs.w[i];
-                    let sn = w * (r * phi_n[i] - lambda_n[i]);
-                    let base = cs.node[i] * d;
-                    for c in 0..d {
-                        if !problem.is_dirichlet[base + c] {
-                            let mut v = sn * n[c];
-                            if problem.tangential {
-                                v += w * (r * phi_t[i * d + c] - lambda_t[i * d + c]);
-                            }
-                            b[base + c] += v;
-                        }
-                    }
+            for i in 0..nc {
+                let w = cs.w[i];
+                let sn = w * (r * state.phi_n[i] - state.lambda_n[i]);
+                let base = cs.node[i] * d;
+                for c in 0..d {
+                    state.c[i * d + c] = if problem.is_dirichlet[base + c] {
+                        0.0
+                    } else if problem.tangential {
+                        sn * n[c] + w * (r * state.phi_t[i * d + c] - state.lambda_t[i * d + c])
+                    } else {
+                        sn * n[c]
+                    };
                 }
-            })?;
+            }
         }
         if problem.adaptive_inner && k == 0 {
             // Inexact Uzawa: each solve starts from u^{k-1} and reduces the
@@ -501,31 +764,39 @@ pub fn ubr<C: Communicator>(
             // shrink with (4.16).
             problem.ksp.set_rtol(ctl.inner_rtol_factor)?;
         }
-        let its = {
+        // ||u^k - u^{k-1}||^2 and ||u^k||^2 with lumped mass (local sums), when known.
+        let mut du_u = None;
+        let its = if let Some(cd) = condensed {
             let _e = events.solve.begin();
-            problem.ksp.solve(&state.rhs, &state.u)?
+            cd.schur.solve(&state.c, &mut state.uc)?;
+            for (x, y) in state.uc.iter_mut().zip(&cd.y0) {
+                *x += y;
+            }
+            0
+        } else {
+            let its = {
+                let _e = events.solve.begin();
+                full_solve(problem, state)?
+            };
+            du_u = Some(state.update_full_norms(problem, true)?);
+            its
         };
         state.inner_iterations.push(its);
         // Steps 2 and 3: projections (4.15), (5.5) and the multiplier update (4.4), pointwise.
         let e = events.projection.begin();
         let st = &mut *state;
-        let sums = st.u.read(|uv| {
+        let sums = {
+            let uv = &st.uc;
             // [9]: ||lambda^{k+1} - lambda^k||^2 (the Anderson residual)
             let mut s = [0.0f64; 10];
             // max tension, max |stress|, max |u_n|
             let mut ext = [0.0f64; 3];
-            // ||u^k - u^{k-1}||^2 and ||u^k||^2 with lumped mass
-            for (j, m) in problem.lumped_mass.iter().enumerate() {
-                for c in 0..d {
-                    let x = uv[j * d + c];
-                    let dx = x - st.u_prev[j * d + c];
-                    s[0] += m * dx * dx;
-                    s[1] += m * x * x;
-                }
+            if let Some((du2, u2)) = du_u {
+                s[0] = du2;
+                s[1] = u2;
             }
-            st.u_prev.copy_from_slice(uv);
             for i in 0..nc {
-                let base = cs.node[i] * d;
+                let base = i * d;
                 let w = cs.w[i];
                 let uni: f64 = (0..d).map(|c| uv[base + c] * n[c]).sum();
                 // -sigma_n(u^k) by (4.7), before the update
@@ -592,7 +863,7 @@ pub fn ubr<C: Communicator>(
                 }
             }
             (s, ext)
-        })?;
+        };
         drop(e);
         let (sums, ext) = sums;
         let [tension, largest, un_max] = super::allreduce_max_n(world, ext);
@@ -611,7 +882,11 @@ pub fn ubr<C: Communicator>(
         } else {
             0.0
         };
-        out.criterion = if u2 + phi2 > 0.0 {
+        // (4.16)/(5.6): the relative change of (u, phi); after a condensed
+        // solve, known only once the candidate is decided.
+        out.criterion = if du_u.is_none() {
+            f64::NAN
+        } else if u2 + phi2 > 0.0 {
             ((du2 + dphi2) / (u2 + phi2)).sqrt()
         } else {
             0.0
@@ -641,7 +916,7 @@ pub fn ubr<C: Communicator>(
         }
         k += 1;
         out.iterations = k;
-        if !out.criterion.is_finite() || !out.residual.is_finite() {
+        if (du_u.is_some() && !out.criterion.is_finite()) || !out.residual.is_finite() {
             return Err(Error::NotConverged(format!(
                 "{name} produced a non-finite iterate at iteration {k}"
             )));
@@ -664,8 +939,68 @@ pub fn ubr<C: Communicator>(
             let decayed = largest <= ctl.rtol * state.peak_stress || largest <= 1e-13 * r * un_max;
             (decayed, true)
         };
-        if k >= 2 && out.criterion < ctl.rtol && out.residual < ctl.residual_tol && dual_ok && held
-        {
+        let others_ok = k >= 2 && out.residual < ctl.residual_tol && dual_ok && held;
+        if condensed.is_some() {
+            // The change (4.16)/(5.6) needs the whole displacement: decided
+            // for the evaluations where it is the last test open, a batch at a
+            // time, going back to the first that passes (so the iterations
+            // stop exactly where the uncondensed ones do), and for the last.
+            let last = k >= ctl.max_it;
+            if others_ok || last {
+                pending.push(Candidate {
+                    index: state.history.len() - 1,
+                    others_ok,
+                    dphi2,
+                    phi2,
+                    out,
+                    snap: state.snapshot(),
+                });
+            }
+            if pending.len() >= batch || (last && !pending.is_empty()) {
+                let found = {
+                    let _e = events.solve.begin();
+                    resolve(world, problem, state, &mut pending, ctl.rtol)?
+                };
+                if let Resolution::Inconsistent(why) = &found {
+                    if root {
+                        eprintln!("warning: {name}: {why} Going on without condensation.");
+                    }
+                    condensed = None;
+                    // u^{k-1} and u^k by full solves, for this iteration's change.
+                    std::mem::swap(&mut state.c, &mut state.c_prev);
+                    let solved = full_solve(problem, state);
+                    std::mem::swap(&mut state.c, &mut state.c_prev);
+                    solved?;
+                    state.u.read(|u| state.u_prev.copy_from_slice(u))?;
+                    full_solve(problem, state)?;
+                    let (du2, u2) = state.update_full_norms(problem, false)?;
+                    let [du2, u2] = allreduce_sum(world, [du2, u2]);
+                    let change = if u2 + phi2 > 0.0 {
+                        ((du2 + dphi2) / (u2 + phi2)).sqrt()
+                    } else {
+                        0.0
+                    };
+                    if let Some(c) = pending.last_mut() {
+                        c.out.criterion = change;
+                    }
+                }
+                for cand in &pending {
+                    state.history[cand.index][0] = cand.out.criterion;
+                }
+                if let Resolution::Converged(i) = found {
+                    let cand = pending.swap_remove(i);
+                    state.history.truncate(cand.index + 1);
+                    state.inner_iterations.truncate(cand.index + 1);
+                    state.restore(cand.snap);
+                    out = cand.out;
+                    out.converged = true;
+                    break;
+                }
+                out.criterion = pending.last().map_or(f64::NAN, |c| c.out.criterion);
+                pending.clear();
+                batch = (2 * batch).min(MAX_BATCH);
+            }
+        } else if others_ok && out.criterion < ctl.rtol {
             out.converged = true;
             break;
         }

@@ -1,0 +1,146 @@
+//! The condensed UBR solve (`-ubr_condense_max`, on by default on one rank
+//! in 2D): the same iterations and the same contact state as a full sparse
+//! solve per iteration, for UBR-C, UBR-TF, CF-FP and with Anderson, when
+//! the iteration cap stops the run, and off where it does not apply.
+mod common;
+use common::*;
+use std::collections::HashMap;
+
+/// Max |a - b| over the contact nodes of one field, relative to max |b|
+/// (absolute where b vanishes, e.g. the tangential stress without friction).
+fn gap(a: &[Row], b: &[Row], field: impl Fn(&Row) -> f64) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let bm: HashMap<u64, f64> = b.iter().map(|r| (r.node, field(r))).collect();
+    let peak = b.iter().map(|r| field(r).abs()).fold(0.0, f64::max);
+    a.iter()
+        .map(|r| (field(r) - bm[&r.node]).abs())
+        .fold(0.0, f64::max)
+        / if peak > 0.0 { peak } else { 1.0 }
+}
+
+/// Runs `args` on one rank condensed (the default) and with
+/// `-ubr_condense_max 0`; both must take the same iterations and reach the
+/// same contact state, to `tol` relative. Returns the condensed report.
+fn same_as_full(name: &str, args: &[&str], unknowns: f64, tol: f64) -> serde_json::Value {
+    let (run, c, crows) = solve_rows(&format!("{name}_condensed"), 1, args);
+    let mut plain = args.to_vec();
+    plain.extend_from_slice(&["-ubr_condense_max", "0"]);
+    let (_, f, frows) = solve_rows(&format!("{name}_full"), 1, &plain);
+    assert_eq!(num(&c, "condensed_unknowns"), unknowns, "{name}");
+    assert!(
+        run.stdout
+            .contains(&format!("condensed on the {unknowns} contact unknowns")),
+        "{name}: {}",
+        run.stdout
+    );
+    assert_eq!(num(&f, "condensed_unknowns"), 0.0, "{name}");
+    assert_eq!(c["converged"], f["converged"], "{name}");
+    for key in [
+        "iterations",
+        "fixed_point_iterations",
+        "frictionless_iterations",
+        "contact_nodes",
+    ] {
+        assert_eq!(c[key], f[key], "{name}: {key}");
+    }
+    let (fc, ff) = (num(&c, "contact_force"), num(&f, "contact_force"));
+    assert!(
+        (fc - ff).abs() <= tol * ff.abs(),
+        "{name}: force {fc} vs {ff}"
+    );
+    let g = gap(&crows, &frows, |r| r.lambda_n);
+    assert!(g <= tol, "{name}: pressures differ by {g:.3e}");
+    let g = gap(&crows, &frows, |r| r.un);
+    assert!(g <= tol, "{name}: u_n differ by {g:.3e}");
+    let g = gap(&crows, &frows, |r| r.lambda_t[0].hypot(r.lambda_t[1]));
+    assert!(g <= tol, "{name}: tangential stresses differ by {g:.3e}");
+    for r in &crows {
+        let s = frows.iter().find(|s| s.node == r.node).unwrap();
+        assert_eq!(r.status, s.status, "{name}: node {}", r.node);
+    }
+    c
+}
+
+const MESH: &str = "meshes/hertz_6619.msh";
+
+#[test]
+fn ubr_c_and_anderson() {
+    let c = same_as_full("c", &hertz_args(MESH, &[]), 274.0, 1e-9);
+    assert_eq!(c["converged"], serde_json::Value::Bool(true));
+    let its = num(&c, "iterations");
+    assert!((35.0..=65.0).contains(&its), "{its} iterations");
+    // The least-squares extrapolation amplifies round-off differences
+    // (measured 9e-8 here); still far below the 1e-5 error of this tolerance.
+    same_as_full(
+        "aa",
+        &hertz_args(MESH, &["-ubr_anderson", "10", "-ubr_rtol", "1e-8"]),
+        274.0,
+        1e-6,
+    );
+}
+
+#[test]
+fn tresca_and_coulomb() {
+    for (name, file) in [
+        ("tf", "options/hertz-tresca"),
+        ("fp", "options/hertz-coulomb"),
+    ] {
+        let r = same_as_full(name, &["-options_file", file, "-mesh", MESH], 274.0, 1e-9);
+        assert_eq!(r["converged"], serde_json::Value::Bool(true), "{name}");
+    }
+}
+
+/// A run that the cap stops reports the state of its last iteration, the
+/// same as without condensation.
+#[test]
+fn stopped_by_the_cap() {
+    for cap in ["3", "37"] {
+        let args = hertz_args(MESH, &["-ubr_max_it", cap]);
+        let dir = scratch(&format!("cap{cap}"));
+        let mut out = Vec::new();
+        for extra in [&[][..], &["-ubr_condense_max", "0"][..]] {
+            let csv = dir.join(format!("c{}.csv", extra.len()));
+            let cs = csv.to_str().unwrap().to_string();
+            let mut a = args.clone();
+            a.extend_from_slice(extra);
+            a.extend_from_slice(&["-contact_output", &cs]);
+            let run = mpirun(1, &a);
+            assert_eq!(
+                run.status,
+                Some(3),
+                "cap {cap}: {}\n{}",
+                run.stdout,
+                run.stderr
+            );
+            out.push(contact_rows(&csv));
+        }
+        let g = gap(&out[0], &out[1], |r| r.lambda_n);
+        assert!(g <= 1e-9, "cap {cap}: pressures differ by {g:.3e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+/// Not on several ranks, not in 3D by default, not when every change is
+/// printed; bad values are bad input.
+#[test]
+fn where_it_does_not_apply() {
+    let (_, r, _) = solve_rows("n2", 2, &hertz_args(MESH, &[]));
+    assert_eq!(num(&r, "condensed_unknowns"), 0.0);
+    let (run, r, _) = solve_rows("monitor", 1, &hertz_args(MESH, &["-ubr_monitor"]));
+    assert_eq!(num(&r, "condensed_unknowns"), 0.0);
+    assert!(run.stdout.contains("UBR-C    38"), "{}", run.stdout);
+    let block = [
+        "-options_file",
+        "options/block3d",
+        "-mesh",
+        "meshes/block3d_739.msh",
+    ];
+    let (_, r, _) = solve_rows("block", 1, &block);
+    assert_eq!(num(&r, "condensed_unknowns"), 0.0);
+    let mut forced = block.to_vec();
+    forced.extend_from_slice(&["-ubr_condense_max", "5000"]);
+    same_as_full("block_forced", &forced, 369.0, 1e-9);
+    let run = mpirun(2, &hertz_args(MESH, &["-ubr_condense_max", "-1"]));
+    assert_eq!(run.status, Some(2), "{}", run.stderr);
+    assert!(run.stderr.contains("-ubr_condense_max"), "{}", run.stderr);
+}
