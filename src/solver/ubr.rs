@@ -541,8 +541,10 @@ impl UbrState {
 /// A condensed evaluation whose stopping tests, but for the change
 /// (4.16)/(5.6), are decided (`others_ok`), or the last one of the run.
 struct Candidate {
-    /// Its position in `state.history` and `state.inner_iterations`.
+    /// Its position in `state.history`, and the length of
+    /// `state.inner_iterations` after it.
     index: usize,
+    inner_len: usize,
     others_ok: bool,
     /// `||phi^k - phi^{k-1}||^2` and `||phi^k||^2` (global sums).
     dphi2: f64,
@@ -949,6 +951,7 @@ pub fn ubr<C: Communicator>(
             if others_ok || last {
                 pending.push(Candidate {
                     index: state.history.len() - 1,
+                    inner_len: state.inner_iterations.len(),
                     others_ok,
                     dphi2,
                     phi2,
@@ -990,7 +993,7 @@ pub fn ubr<C: Communicator>(
                 if let Resolution::Converged(i) = found {
                     let cand = pending.swap_remove(i);
                     state.history.truncate(cand.index + 1);
-                    state.inner_iterations.truncate(cand.index + 1);
+                    state.inner_iterations.truncate(cand.inner_len);
                     state.restore(cand.snap);
                     out = cand.out;
                     out.converged = true;
