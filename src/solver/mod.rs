@@ -79,7 +79,7 @@ pub struct Problem {
 }
 
 /// Default largest number of contact unknowns for [`Condensed`], in 2D and
-/// 3D. Measured on one rank: hertz_37473 (658 unknowns) 2.2 -> 1.0 s; the 3D
+/// 3D. Measured on one rank: hertz_37473 (658 unknowns) 2.2 -> 0.8 s; the 3D
 /// contact face is large against the factorization, which the Schur
 /// complement then slows more than it saves (block3d_2357, 786 unknowns:
 /// 0.26 -> 0.32 s; block3d_10761, 2286: 3.0 -> 4.1 s).
@@ -95,7 +95,8 @@ pub const CONDENSE_MAX: [usize; 2] = [2000, 0];
 /// computes S during the one factorization; an iteration then costs a dense
 /// solve with S instead of a sparse solve of the whole system. The whole
 /// displacement is only needed by the relative change (4.16)/(5.6) and at the
-/// end: [`ubr::ubr`] solves for it when every other stopping test passes.
+/// end: [`ubr::ubr`] solves for it, many right-hand sides at once, for the
+/// evaluations where every other stopping test passes.
 pub struct Condensed {
     pub schur: SchurSolver,
     pub y0: Vec<f64>,

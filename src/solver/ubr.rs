@@ -148,15 +148,7 @@ impl UbrState {
         let d = self.dim;
         let (u_prev, uc) = (&mut self.u_prev, &mut self.uc);
         let sums = self.u.read(|uv| {
-            let (mut du2, mut u2) = (0.0, 0.0);
-            for (j, m) in problem.lumped_mass.iter().enumerate() {
-                for c in 0..d {
-                    let x = uv[j * d + c];
-                    let dx = x - u_prev[j * d + c];
-                    du2 += m * dx * dx;
-                    u2 += m * x * x;
-                }
-            }
+            let (du2, u2) = mass_norms(problem, uv, u_prev);
             u_prev.copy_from_slice(uv);
             if extract {
                 for (i, &v) in problem.contact.node.iter().enumerate() {
@@ -171,20 +163,8 @@ impl UbrState {
 
     /// Back to the paper's initialization (a cold start).
     pub fn reset(&mut self) -> Result<(), Error> {
-        for v in [
-            &mut self.phi_n,
-            &mut self.phi_t,
-            &mut self.lambda_n,
-            &mut self.lambda_t,
-            &mut self.stress_n,
-            &mut self.stress_t,
-            &mut self.un,
-            &mut self.ut,
-            &mut self.u_prev,
-            &mut self.c,
-            &mut self.c_prev,
-            &mut self.uc,
-        ] {
+        self.u_prev.iter_mut().for_each(|x| *x = 0.0);
+        for v in self.arrays_mut() {
             v.iter_mut().for_each(|x| *x = 0.0);
         }
         self.evaluations = 0;
@@ -473,6 +453,21 @@ fn cholesky_solve(a: &mut [f64], b: &mut [f64], m: usize) -> bool {
     true
 }
 
+/// The local sums of `||u - u_prev||^2` and `||u||^2` with the lumped mass.
+fn mass_norms(problem: &Problem, u: &[f64], u_prev: &[f64]) -> (f64, f64) {
+    let d = problem.dim;
+    let (mut du2, mut u2) = (0.0, 0.0);
+    for (j, m) in problem.lumped_mass.iter().enumerate() {
+        for c in 0..d {
+            let x = u[j * d + c];
+            let dx = x - u_prev[j * d + c];
+            du2 += m * dx * dx;
+            u2 += m * x * x;
+        }
+    }
+    (du2, u2)
+}
+
 /// Solves (4.5)/(5.3) for the whole displacement: `state.u` from the
 /// right-hand side `rhs0 + c`. Returns the inner iteration count.
 fn full_solve(problem: &Problem, state: &mut UbrState) -> Result<usize, Error> {
@@ -500,7 +495,13 @@ struct Snapshot {
     peak_stress: f64,
 }
 
+/// Positions in [`UbrState::arrays_mut`] (and [`Snapshot`]) of c, c_prev, uc.
+const IDX_C: usize = 8;
+const IDX_C_PREV: usize = 9;
+const IDX_UC: usize = 10;
+
 impl UbrState {
+    /// The per-candidate arrays of the state.
     fn arrays_mut(&mut self) -> [&mut Vec<f64>; 11] {
         [
             &mut self.phi_n,
@@ -587,11 +588,11 @@ fn resolve<C: Communicator>(
         } else if i > 0 && pending[i - 1].snap.evaluations + 1 == e {
             Some(own_col[i - 1])
         } else {
-            rhs.push(&cand.snap.arrays[9]); // c_prev
+            rhs.push(&cand.snap.arrays[IDX_C_PREV]);
             Some(rhs.len() - 1)
         };
         prev_col.push(prev);
-        rhs.push(&cand.snap.arrays[8]); // c
+        rhs.push(&cand.snap.arrays[IDX_C]);
         own_col.push(rhs.len() - 1);
     }
     let comm = crate::petsc::comm_world();
@@ -620,7 +621,7 @@ fn resolve<C: Communicator>(
                 None => &state.u_prev[..],
                 Some(j) => &xx[j * n..(j + 1) * n],
             };
-            let uc = &cand.snap.arrays[10];
+            let uc = &cand.snap.arrays[IDX_UC];
             let (mut diff, mut scale) = (0.0f64, 0.0f64);
             for (l, &v) in cs.node.iter().enumerate() {
                 for k in 0..d {
@@ -634,14 +635,7 @@ fn resolve<C: Communicator>(
                      contact nodes (displacements up to {scale:.3e}): is the body held?"
                 )));
             }
-            let (mut du2, mut u2) = (0.0, 0.0);
-            for (j, m) in problem.lumped_mass.iter().enumerate() {
-                for k in 0..d {
-                    let dx = u[j * d + k] - up[j * d + k];
-                    du2 += m * dx * dx;
-                    u2 += m * u[j * d + k] * u[j * d + k];
-                }
-            }
+            let (du2, u2) = mass_norms(problem, u, up);
             let [du2, u2] = allreduce_sum(world, [du2, u2]);
             cand.out.criterion = if u2 + cand.phi2 > 0.0 {
                 ((du2 + cand.dphi2) / (u2 + cand.phi2)).sqrt()
