@@ -125,38 +125,64 @@ pub fn facet_measure(pts: &[&[f64]]) -> f64 {
     }
 }
 
-/// Exact preallocation of the owned rows: per dof row, the number of nonzero
-/// columns in the diagonal block (owned columns) and outside it.
-pub fn preallocation(mesh: &LocalMesh) -> (Vec<sys::PetscInt>, Vec<sys::PetscInt>) {
-    let d = mesh.dim;
-    let k = d + 1;
+/// The neighbours of each owned node (the nodes it shares a cell with,
+/// itself included), in compressed rows sorted by global number: the
+/// neighbours of owned node a are `nbr[ptr[a]..ptr[a + 1]]` (local numbers).
+fn node_adjacency(mesh: &LocalMesh) -> (Vec<usize>, Vec<u32>) {
+    let k = mesh.dim + 1;
     let nown = mesh.owned_count;
-    let mut adj: Vec<Vec<u32>> = vec![Vec::new(); nown];
+    let mut count = vec![1usize; nown]; // itself
+    for cell in mesh.cells.chunks(k) {
+        for &a in cell {
+            if a < nown {
+                count[a] += k - 1;
+            }
+        }
+    }
+    let mut ptr = vec![0usize; nown + 1];
+    for a in 0..nown {
+        ptr[a + 1] = ptr[a] + count[a];
+    }
+    let mut nbr = vec![0u32; ptr[nown]];
+    let mut fill = ptr[..nown].to_vec();
+    for a in 0..nown {
+        nbr[fill[a]] = a as u32;
+        fill[a] += 1;
+    }
     for cell in mesh.cells.chunks(k) {
         for &a in cell {
             if a < nown {
                 for &b in cell {
-                    adj[a].push(b as u32);
+                    if b != a {
+                        nbr[fill[a]] = b as u32;
+                        fill[a] += 1;
+                    }
                 }
             }
         }
     }
-    let mut d_nnz = Vec::with_capacity(nown * d);
-    let mut o_nnz = Vec::with_capacity(nown * d);
-    for list in &mut adj {
-        if list.is_empty() {
-            list.push(0); // an isolated owned node still has its diagonal
+    // Sort and deduplicate each row, compacting in place.
+    let mut out = 0;
+    let mut start = 0;
+    for a in 0..nown {
+        let end = ptr[a + 1];
+        let row = &mut nbr[start..end];
+        row.sort_unstable_by_key(|&b| mesh.node_global[b as usize]);
+        let mut len = 0;
+        for i in 0..row.len() {
+            if i == 0 || row[i] != row[len - 1] {
+                row[len] = row[i];
+                len += 1;
+            }
         }
-        list.sort_unstable();
-        list.dedup();
-        let inside = list.iter().filter(|&&b| (b as usize) < nown).count();
-        let outside = list.len() - inside;
-        for _ in 0..d {
-            d_nnz.push((inside.max(1) * d) as sys::PetscInt);
-            o_nnz.push((outside * d) as sys::PetscInt);
-        }
+        nbr.copy_within(start..start + len, out);
+        start = end;
+        ptr[a] = out;
+        out += len;
+        ptr[a + 1] = out;
     }
-    (d_nnz, o_nnz)
+    nbr.truncate(out);
+    (ptr, nbr)
 }
 
 /// The assembled elasticity data of this rank.
@@ -168,7 +194,9 @@ pub struct Elasticity {
 
 /// Assembles K (only the rows this rank owns; no communication) and the lumped
 /// mass. Extra owned diagonal 2x2/3x3 blocks can be added by `extra` before the
-/// final assembly (the UBR term r B^T W B).
+/// final assembly (the UBR term r B^T W B). The rows are built here in
+/// compressed form, each entry summing its element contributions in element
+/// order, and handed to PETSc in one call.
 pub fn assemble_stiffness(
     comm: sys::MPI_Comm,
     mesh: &LocalMesh,
@@ -177,27 +205,70 @@ pub fn assemble_stiffness(
 ) -> Result<Elasticity, Error> {
     let d = mesh.dim;
     let k = d + 1;
-    let (d_nnz, o_nnz) = preallocation(mesh);
-    let mat = Matrix::new_aij(comm, mesh.owned_count * d, d, &d_nnz, &o_nnz)?;
-    let mut mass = vec![0.0; mesh.owned_count];
-    let nloc = d * k;
-    let mut rows = vec![0 as sys::PetscInt; nloc];
-    let mut cols = vec![0 as sys::PetscInt; nloc];
-    let mut vals = vec![0.0; nloc * nloc];
+    let nown = mesh.owned_count;
+    let (nptr, nbr) = node_adjacency(mesh);
+    // Dof row (a, ca) starts at d * (d * nptr[a] + ca * len(a)); its
+    // columns are (b, cb) for b in the neighbours of a, cb in 0..d.
+    let row_start = |a: usize, ca: usize| d * (d * nptr[a] + ca * (nptr[a + 1] - nptr[a]));
+    let nnz = d * d * nptr[nown];
+    let mut rowptr: Vec<sys::PetscInt> = Vec::with_capacity(nown * d + 1);
+    let mut cols: Vec<sys::PetscInt> = Vec::with_capacity(nnz);
+    for a in 0..nown {
+        for _ca in 0..d {
+            rowptr.push(cols.len() as sys::PetscInt);
+            for &b in &nbr[nptr[a]..nptr[a + 1]] {
+                let g = mesh.node_global[b as usize];
+                for cb in 0..d {
+                    cols.push((g * d + cb) as sys::PetscInt);
+                }
+            }
+        }
+    }
+    rowptr.push(cols.len() as sys::PetscInt);
+    let mut vals = vec![0.0; nnz];
+    // Position of node b among the neighbours of the owned node a.
+    let slot = |a: usize, b: usize| {
+        nbr[nptr[a]..nptr[a + 1]]
+            .iter()
+            .position(|&x| x as usize == b)
+            .expect("the vertices of a cell are neighbours")
+    };
+    let mut mass = vec![0.0; nown];
     let d2 = hooke_2d(settings.young, settings.nu, settings.plane_stress);
     let d3 = hooke_3d(settings.young, settings.nu);
-    for (c, cell) in mesh.cells.chunks(k).enumerate() {
+    let nloc = d * k;
+    let mut ke = vec![0.0; nloc * nloc];
+    // Cells by their lowest vertex (counting sort): the rows each one adds
+    // to are then swept in order, not at random (RCM-numbered nodes,
+    // cells in file order; hertz_37473: 55 -> 40 ms).
+    let ncells = mesh.cells.len() / k;
+    let lowest = |c: usize| *mesh.cells[c * k..(c + 1) * k].iter().min().unwrap_or(&0);
+    let mut start = vec![0usize; mesh.node_global.len() + 1];
+    for c in 0..ncells {
+        start[lowest(c) + 1] += 1;
+    }
+    for v in 0..mesh.node_global.len() {
+        start[v + 1] += start[v];
+    }
+    let mut order = vec![0u32; ncells];
+    for c in 0..ncells {
+        let v = lowest(c);
+        order[start[v]] = c as u32;
+        start[v] += 1;
+    }
+    for c in order.into_iter().map(|c| c as usize) {
+        let cell = &mesh.cells[c * k..(c + 1) * k];
         let measure;
         if d == 2 {
             let x = [0, 1, 2].map(|a| {
                 let p = mesh.x(cell[a]);
                 [p[0], p[1]]
             });
-            let (ke, area) = stiffness_2d(&x, &d2);
+            let (m, area) = stiffness_2d(&x, &d2);
             measure = area;
             for i in 0..6 {
                 for j in 0..6 {
-                    vals[i * 6 + j] = ke[(i, j)];
+                    ke[i * 6 + j] = m[(i, j)];
                 }
             }
         } else {
@@ -205,11 +276,11 @@ pub fn assemble_stiffness(
                 let p = mesh.x(cell[a]);
                 [p[0], p[1], p[2]]
             });
-            let (ke, vol) = stiffness_3d(&x, &d3);
+            let (m, vol) = stiffness_3d(&x, &d3);
             measure = vol;
             for i in 0..12 {
                 for j in 0..12 {
-                    vals[i * 12 + j] = ke[(i, j)];
+                    ke[i * 12 + j] = m[(i, j)];
                 }
             }
         }
@@ -221,28 +292,33 @@ pub fn assemble_stiffness(
                 tags.join(" ")
             ));
         }
-        for (a, &v) in cell.iter().enumerate() {
-            let g = mesh.node_global[v];
-            for comp in 0..d {
-                cols[a * d + comp] = (g * d + comp) as sys::PetscInt;
-                rows[a * d + comp] = if mesh.is_owned(v) {
-                    (g * d + comp) as sys::PetscInt
-                } else {
-                    -1
-                };
+        for (ia, &a) in cell.iter().enumerate() {
+            if !mesh.is_owned(a) {
+                continue;
             }
-            if mesh.is_owned(v) {
-                mass[v] += measure / k as f64;
+            mass[a] += measure / k as f64;
+            for (ib, &b) in cell.iter().enumerate() {
+                let p = slot(a, b);
+                for ca in 0..d {
+                    let dst = row_start(a, ca) + p * d;
+                    let src = (ia * d + ca) * nloc + ib * d;
+                    for cb in 0..d {
+                        vals[dst + cb] += ke[src + cb];
+                    }
+                }
             }
         }
-        mat.add_values(&rows, &cols, &vals)?;
     }
     for (local, block) in extra {
-        let g = mesh.node_global[*local];
-        let idx: Vec<sys::PetscInt> = (0..d).map(|c| (g * d + c) as sys::PetscInt).collect();
-        mat.add_values(&idx, &idx, block)?;
+        let (a, p) = (*local, slot(*local, *local));
+        for ca in 0..d {
+            let dst = row_start(a, ca) + p * d;
+            for cb in 0..d {
+                vals[dst + cb] += block[ca * d + cb];
+            }
+        }
     }
-    mat.assemble()?;
+    let mat = Matrix::new_aij_csr(comm, nown * d, d, &rowptr, &cols, &vals)?;
     Ok(Elasticity {
         stiffness: mat,
         lumped_mass: mass,
