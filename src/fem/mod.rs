@@ -195,8 +195,8 @@ pub struct Elasticity {
 /// Assembles K (only the rows this rank owns; no communication) and the lumped
 /// mass. Extra owned diagonal 2x2/3x3 blocks can be added by `extra` before the
 /// final assembly (the UBR term r B^T W B). The rows are built here in
-/// compressed form, each entry summing its element contributions in element
-/// order, and handed to PETSc in one call.
+/// compressed form (the cells taken in the order of their lowest vertex) and
+/// handed to PETSc in one call; the arrays are freed before returning.
 pub fn assemble_stiffness(
     comm: sys::MPI_Comm,
     mesh: &LocalMesh,

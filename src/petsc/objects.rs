@@ -139,9 +139,9 @@ impl Matrix {
     /// block size `bs`, from the compressed rows of this rank: row i has the
     /// global columns `cols[rowptr[i]..rowptr[i + 1]]` (increasing) and the
     /// values at the same positions. One call hands the whole pattern and
-    /// values over (`Mat*AIJSetPreallocationCSR`, which also assembles), about
-    /// 5x faster than an element-by-element `MatSetValues`. A later entry
-    /// outside the pattern is an error; no entry goes to another rank.
+    /// values over (`Mat*AIJSetPreallocationCSR`, which also assembles). A
+    /// later entry outside the pattern is an error; no entry goes to another
+    /// rank.
     pub fn new_aij_csr(
         comm: sys::MPI_Comm,
         local: usize,
