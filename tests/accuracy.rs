@@ -445,8 +445,10 @@ fn check_reference(r: &Solution) -> Result<String, String> {
         compl <= OPT_COMPLEMENTARITY,
         format!("max |lambda_n (g - u_n)| = {compl:.2e} (relative)"),
     );
-    let mut text =
-        format!("eq {eq:.1e}, sign {sign:.1e}, penetration {pen:.1e}, complementarity {compl:.1e}");
+    let mut text = format!(
+        "equilibrium {eq:.1e}, min lambda_n / max {:.1e}, penetration {pen:.1e}, complementarity {compl:.1e}",
+        -sign
+    );
     if r.friction() {
         let excess = r
             .num("max_friction_excess")
