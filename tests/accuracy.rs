@@ -346,14 +346,16 @@ fn run(name: &'static str, ranks: usize, extra: &[&str]) -> Solution {
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     let status = out.status.code();
-    assert!(
-        matches!(status, Some(0) | Some(3)) && rep.exists() && csv.exists(),
-        "{name} -n {ranks} {}: exit {status:?}\nstdout:\n{stdout}\nstderr:\n{stderr}",
-        extra.join(" ")
-    );
-    let report: Value = serde_json::from_str(&std::fs::read_to_string(&rep).unwrap()).unwrap();
-    let rows = parse_csv(&std::fs::read_to_string(&csv).unwrap());
+    let (rep_text, csv_text) = (std::fs::read_to_string(&rep), std::fs::read_to_string(&csv));
     let _ = std::fs::remove_dir_all(&dir);
+    let (Some(0) | Some(3), Ok(rep_text), Ok(csv_text)) = (status, rep_text, csv_text) else {
+        panic!(
+            "{name} -n {ranks} {}: exit {status:?}\nstdout:\n{stdout}\nstderr:\n{stderr}",
+            extra.join(" ")
+        );
+    };
+    let report: Value = serde_json::from_str(&rep_text).unwrap();
+    let rows = parse_csv(&csv_text);
     Solution {
         status,
         report,
