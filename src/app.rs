@@ -5,53 +5,16 @@ use crate::contact::ContactSet;
 use crate::error::{bad, Error};
 use crate::mesh::{self, distribute, Mesh};
 use crate::options::{self, Friction, MeshSource, Settings, TrescaBound};
-use crate::petsc::{self, sys, LogEvent, LogStage};
+use crate::petsc::{self, sys, Events, Stages};
 use crate::report::{self, ContactRow, Json};
+use crate::solver::stopping::StopRule;
+use crate::solver::surface::UbrState;
 use crate::solver::{
-    allreduce_count, allreduce_max, allreduce_sum, cf_fp, snesvi, ssn, ubr, ContactTerms, Problem,
+    allreduce_count, allreduce_max, allreduce_sum, cf_fp, penalty, snesvi, ssn, ubr, ContactTerms,
+    Problem,
 };
 use mpi::traits::*;
 use std::time::Instant;
-
-/// `-log_view` stages, one per phase.
-pub struct Stages {
-    pub mesh: LogStage,
-    pub partition: LogStage,
-    pub assembly: LogStage,
-    pub factorization: LogStage,
-    pub iterations: LogStage,
-    pub output: LogStage,
-}
-
-/// `-log_view` events of the UBR loop.
-pub struct Events {
-    pub rhs: LogEvent,
-    pub solve: LogEvent,
-    pub projection: LogEvent,
-}
-
-impl Stages {
-    pub fn register() -> Result<Stages, Error> {
-        Ok(Stages {
-            mesh: LogStage::register("Mesh")?,
-            partition: LogStage::register("Partition")?,
-            assembly: LogStage::register("Assembly")?,
-            factorization: LogStage::register("Factorization")?,
-            iterations: LogStage::register("Iterations")?,
-            output: LogStage::register("Output")?,
-        })
-    }
-}
-
-impl Events {
-    pub fn register() -> Result<Events, Error> {
-        Ok(Events {
-            rhs: LogEvent::register("UBRRhs")?,
-            solve: LogEvent::register("UBRSolve")?,
-            projection: LogEvent::register("UBRProjection")?,
-        })
-    }
-}
 
 fn load_mesh(source: &MeshSource) -> Result<Mesh, Error> {
     let mesh = match source {
@@ -168,6 +131,11 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
             contact_settings.surface
         ));
     }
+    // Every rigid motion must be held (by Dirichlet data, contact along n,
+    // or friction): an ill-posed scene is named now, not met as a zero pivot.
+    let friction = settings.friction != Friction::None;
+    let dirichlet = crate::fem::dirichlet_dofs(&local, &settings.dirichlet)?;
+    let restraint = crate::solver::wellposed::check(world, &local, &dirichlet, &cs, friction)?;
     let n = cs.n.clone();
     let d = local.dim;
     let e_star = if d == 2 && settings.plane_stress {
@@ -177,7 +145,6 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     };
 
     // Assembly of K + r B^T W B, Dirichlet elimination, factorization (once).
-    let friction = settings.friction != Friction::None;
     let ssn = settings.algorithm != "ubr";
     if ssn && !settings.ssn_initial_shift.is_empty() && settings.ssn_initial_shift.len() != d {
         return bad(format!(
@@ -192,7 +159,30 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
             tangential: friction,
         }
     };
-    let problem = Problem::setup(world, &local, &settings, cs, terms, &stages)?;
+    // r: the user's, or a trial r0 refined after the factorization (auto).
+    let ubr_run = !ssn;
+    let auto_r = ubr_run && settings.ubr.r.is_none();
+    let r0 = settings.ubr.r.unwrap_or_else(|| {
+        let modulus =
+            penalty::p_wave_modulus(settings.young, settings.nu, d, settings.plane_stress);
+        penalty::trial(world, &local, &cs, modulus)
+    });
+    let mut problem = Problem::setup(world, &local, &settings, cs, terms, r0, &stages)?;
+    if !friction {
+        let load = problem.load.read(|f| f.to_vec())?;
+        crate::solver::wellposed::check_loads(world, &local, &restraint, &problem.contact, &load)?;
+    }
+    let t_choice = Instant::now();
+    let choice = if ubr_run {
+        let _guard = stages.r_choice.push()?;
+        let solves = problem.lin.solves;
+        let choice = penalty::choose(world, &mut problem, &restraint, &local, auto_r)?;
+        let _ = solves;
+        Some(choice)
+    } else {
+        None
+    };
+    let time_r_choice = t_choice.elapsed().as_secs_f64();
     if problem.matrix_mallocs != 0.0 {
         return Err(Error::Internal(format!(
             "{} mallocs during matrix assembly: preallocation is wrong",
@@ -203,7 +193,7 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     // Iterations: UBR-C, UBR-TF or CF-FP.
     let guard = stages.iterations.push()?;
     let t_iter = Instant::now();
-    let (state, mut solved) = solve(world, &local, &settings, &problem, &events, e_star)?;
+    let (state, mut solved) = solve(world, &local, &settings, &mut problem, &events, e_star)?;
     let time_iterations = t_iter.elapsed().as_secs_f64();
     drop(guard);
 
@@ -217,12 +207,12 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
             let mut x = [0.0; 3];
             x[..d].copy_from_slice(local.x(v));
             let mut ut = [0.0; 3];
-            ut[..d].copy_from_slice(&state.ut[i * d..(i + 1) * d]);
+            ut[..d].copy_from_slice(&state.surface.ut[i * d..(i + 1) * d]);
             let mut lt = [0.0; 3];
             if friction {
-                lt[..d].copy_from_slice(&state.stress_t[i * d..(i + 1) * d]);
+                lt[..d].copy_from_slice(&state.surface.stress_t[i * d..(i + 1) * d]);
             }
-            let status = match (state.in_contact[i], friction, state.slip[i]) {
+            let status = match (state.surface.in_contact[i], friction, state.surface.slip[i]) {
                 (false, _, _) => 0,
                 (true, false, _) => 1,
                 (true, true, false) => 2,
@@ -233,10 +223,10 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                 x,
                 weight: cs.w[i],
                 gap: cs.g[i],
-                un: state.un[i],
+                un: state.surface.un[i],
                 ut,
                 // + 0.0 turns -0 into 0 in the CSV
-                lambda_n: state.stress_n[i] + 0.0,
+                lambda_n: state.surface.stress_n[i] + 0.0,
                 lambda_t: lt.map(|v| v + 0.0),
                 status,
                 bound: solved.bound.get(i).copied().unwrap_or(0.0),
@@ -247,6 +237,7 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     // nu_f |lambda_n| of the returned solution for Coulomb.
     let check_bound: Vec<f64> = if settings.friction == Friction::Coulomb {
         state
+            .surface
             .stress_n
             .iter()
             .map(|l| settings.friction_coefficient * l.abs())
@@ -259,9 +250,9 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     // sideways load on a frictionless body) does not always fail: the
     // equilibrium of the answer tells.
     let mut singular = None;
-    if !problem.iterative && diag.equilibrium_rel > 1e-4 {
+    if !problem.lin.iterative && diag.equilibrium_rel > 1e-4 {
         singular = Some(format!(
-            "{} stopped after {} iterations: the linear system is singular: a rigid-body motion of the body is free (nothing holds it along some direction), and the answer violates equilibrium (residual {:.1e}, relative); check the Dirichlet conditions and the loads",
+            "{} stopped after {} iterations: the answer violates equilibrium (relative residual {:.1e}): the body is not held: a rigid-body motion is free or the loads pull it off the obstacle; check the Dirichlet conditions, the loads and the obstacle",
             solved.name, solved.iterations, diag.equilibrium_rel
         ));
         solved.converged = false;
@@ -313,6 +304,7 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
             times: &times,
             diag: &diag,
             mem: (hwm, mem_max, mem_sum),
+            choice: choice.as_ref(),
         });
         if let Some(path) = &settings.plot_contact {
             if let Err(e) = plot_contact(path, &settings, &all_rows, d, &n, e_star) {
@@ -359,23 +351,47 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
                 .string("friction", friction_name(settings.friction))
                 .num("friction_coefficient", settings.friction_coefficient)
                 .string("mesh", &mesh_label(&settings.mesh))
-                .string("linear_solver", &problem.ksp_description)
+                .string("linear_solver", &problem.lin.description)
                 .num("E", settings.young)
                 .num("nu", settings.nu)
-                .num(
-                    "r",
-                    if ssn_run {
-                        settings.ssn_r
-                    } else {
-                        settings.ubr.r
+                .num("r", if ssn_run { settings.ssn_r } else { problem.r() })
+                .num("rho", settings.ubr.rho.unwrap_or(problem.r()))
+                .string(
+                    "r_source",
+                    match choice.as_ref().map(|c| c.source) {
+                        Some(penalty::Source::Auto) => "auto",
+                        _ => "option",
                     },
                 )
-                .num("rho", settings.ubr.rho)
-                .int("anderson_memory", settings.ubr.anderson)
-                .int(
-                    "condensed_unknowns",
-                    problem.condensed.as_ref().map_or(0, |c| c.y0.len()),
+                .opt(
+                    "r_trial",
+                    choice
+                        .as_ref()
+                        .filter(|c| c.source == penalty::Source::Auto)
+                        .map(|c| c.r0),
                 )
+                .opt(
+                    "r_estimate",
+                    choice
+                        .as_ref()
+                        .map(|c| c.estimate)
+                        .filter(|x| x.is_finite()),
+                )
+                .int("r_estimate_solves", choice.as_ref().map_or(0, |c| c.steps))
+                .num("time_r_choice", time_r_choice)
+                .string(
+                    "stop",
+                    if settings.ubr.stop == StopRule::Paper {
+                        "paper"
+                    } else {
+                        "accuracy"
+                    },
+                )
+                .num("lambda_rtol", settings.ubr.lambda_rtol)
+                .opt("lambda_error_estimate", solved.error_estimate)
+                .int("linear_solves", problem.lin.solves)
+                .int("anderson_memory", settings.ubr.anderson)
+                .int("condensed_unknowns", problem.lin.condensed_unknowns())
                 .num("rtol", settings.ubr.rtol)
                 .num("residual_tol", settings.ubr.residual_tol)
                 .int("iterations", solved.iterations)
@@ -448,7 +464,7 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
         return Err(Error::NotConverged(msg));
     }
     if !solved.converged {
-        return Err(Error::NotConverged(solved.failure(&settings)));
+        return Err(Error::NotConverged(solved.failure()));
     }
     Ok(())
 }
@@ -559,7 +575,7 @@ fn write_vtk<C: Communicator>(
     s: &Settings,
     local: &distribute::LocalMesh,
     p: &Problem,
-    st: &ubr::UbrState,
+    st: &UbrState,
     rows: &[ContactRow],
 ) -> Result<(), Error> {
     use report::vtk::{self, Field, Piece};
@@ -705,10 +721,14 @@ pub struct Solved {
     pub fp_change: Option<f64>,
     /// The friction bound s per owned candidate (empty without friction).
     pub bound: Vec<f64>,
+    /// The accuracy test's error estimate of lambda (None in the paper's mode).
+    pub error_estimate: Option<f64>,
+    /// Why the run did not converge.
+    pub failure: Option<String>,
 }
 
 impl Solved {
-    fn failure(&self, s: &Settings) -> String {
+    fn failure(&self) -> String {
         if self.last.tension > 0.1 {
             return format!(
                 "{} stopped after {} iterations (relative change {:.3e}, constraint residual {:.3e}): the body is not held: the contact surface would have to pull (tensile contact stress {:.0}% of the largest), so a rigid-body motion is free and the body drifts; check the Dirichlet conditions (-dirichlet_NAME), the loads and the obstacle",
@@ -720,28 +740,14 @@ impl Solved {
             );
         }
         if self.name == "SSN-C" {
-            format!(
+            return format!(
                 "SSN-C stopped after {} iterations (-ssn_max_it): the active set still changes",
                 self.iterations
-            )
-        } else if self.fixed_point_iterations > 0 && self.last.converged {
-            format!(
-                "CF-FP stopped after {} fixed-point iterations (-ubr_fp_max_it): relative change of s {:.3e} (target {:.1e})",
-                self.fixed_point_iterations,
-                self.fp_change.unwrap_or(f64::NAN),
-                s.ubr.fp_rtol
-            )
-        } else {
-            format!(
-                "{} stopped after {} iterations (-ubr_max_it): relative change {:.3e} (target {:.1e}), constraint residual {:.3e} (target {:.1e})",
-                self.name,
-                self.iterations,
-                self.last.criterion,
-                s.ubr.rtol,
-                self.last.residual,
-                s.ubr.residual_tol
-            )
+            );
         }
+        self.failure.clone().unwrap_or_else(|| {
+            format!("{} stopped after {} iterations", self.name, self.iterations)
+        })
     }
 }
 
@@ -794,31 +800,85 @@ fn hertz_bound<C: Communicator>(
         .collect()
 }
 
+/// The bound s^0 from -tresca_bound (None: a frictionless solve first for
+/// Tresca, or zero for CF-FP).
+#[allow(clippy::too_many_arguments)]
+fn explicit_bound<C: Communicator>(
+    world: &C,
+    local: &distribute::LocalMesh,
+    settings: &Settings,
+    problem: &mut Problem,
+    state: &mut UbrState,
+    solved: &mut Solved,
+    ctl: &ubr::UbrControl,
+    events: &Events,
+    e_star: f64,
+) -> Result<Option<Vec<f64>>, Error> {
+    let nc = problem.contact.len();
+    let nu_f = settings.friction_coefficient;
+    Ok(match settings.tresca_bound {
+        Some(TrescaBound::Value(v)) => Some(vec![v; nc]),
+        Some(TrescaBound::Hertz) => Some(hertz_bound(
+            world,
+            local,
+            &problem.contact,
+            settings
+                .reference
+                .as_ref()
+                .expect("checked with the options"),
+            nu_f,
+            e_star,
+        )),
+        Some(TrescaBound::Frictionless) => {
+            // A frictionless solve with the same matrix: UBR-TF with s = 0.
+            let zero = vec![0.0; nc];
+            let run = ubr::ubr(world, problem, state, Some(&zero), ctl, events)?;
+            solved.frictionless_iterations = run.iterations;
+            if !run.converged {
+                return Err(Error::NotConverged(format!(
+                    "the frictionless solve behind -tresca_bound frictionless did not converge: {}",
+                    run.failure.unwrap_or_default()
+                )));
+            }
+            let s = state
+                .surface
+                .stress_n
+                .iter()
+                .map(|l| nu_f * l.abs())
+                .collect();
+            state.reset()?;
+            Some(s)
+        }
+        None => None,
+    })
+}
+
 /// Runs the algorithm the options ask for.
 fn solve<C: Communicator>(
     world: &C,
     local: &distribute::LocalMesh,
     settings: &Settings,
-    problem: &Problem,
+    problem: &mut Problem,
     events: &Events,
     e_star: f64,
-) -> Result<(ubr::UbrState, Solved), Error> {
+) -> Result<(UbrState, Solved), Error> {
     let u = &settings.ubr;
     let ctl = ubr::UbrControl {
-        r: u.r,
         rho: u.rho,
+        stop: u.stop,
         rtol: u.rtol,
         residual_tol: u.residual_tol,
+        dual_rtol: u.dual_rtol,
+        tension_tol: ubr::TENSION_TOL,
+        lambda_rtol: u.lambda_rtol,
         max_it: u.max_it,
         monitor: u.monitor,
         inner_rtol_factor: u.inner_rtol_factor,
-        dual_rtol: u.dual_rtol,
-        tension_tol: ubr::TENSION_TOL,
         anderson: u.anderson,
     };
     let nc = problem.contact.len();
     let nu_f = settings.friction_coefficient;
-    let mut state = ubr::UbrState::new(problem)?;
+    let mut state = UbrState::new(problem)?;
     let mut solved = Solved {
         name: "UBR-C",
         iterations: 0,
@@ -828,41 +888,8 @@ fn solve<C: Communicator>(
         last: ubr::UbrOutcome::default(),
         fp_change: None,
         bound: Vec::new(),
-    };
-    // The bound s^0 from -tresca_bound (None: frictionless solve first, or zero for CF-FP).
-    let explicit_bound = |state: &mut ubr::UbrState,
-                          solved: &mut Solved|
-     -> Result<Option<Vec<f64>>, Error> {
-        Ok(match settings.tresca_bound {
-            Some(TrescaBound::Value(v)) => Some(vec![v; nc]),
-            Some(TrescaBound::Hertz) => Some(hertz_bound(
-                world,
-                local,
-                &problem.contact,
-                settings
-                    .reference
-                    .as_ref()
-                    .expect("checked with the options"),
-                nu_f,
-                e_star,
-            )),
-            Some(TrescaBound::Frictionless) => {
-                // A frictionless solve with the same matrix: UBR-TF with s = 0.
-                let zero = vec![0.0; nc];
-                let run = ubr::ubr(world, problem, state, Some(&zero), &ctl, events)?;
-                solved.frictionless_iterations = run.iterations;
-                if !run.converged {
-                    return Err(Error::NotConverged(format!(
-                        "the frictionless solve behind -tresca_bound frictionless stopped after {} iterations",
-                        run.iterations
-                    )));
-                }
-                let s = state.stress_n.iter().map(|l| nu_f * l.abs()).collect();
-                state.reset()?;
-                Some(s)
-            }
-            None => None,
-        })
+        error_estimate: None,
+        failure: None,
     };
     if settings.algorithm == "snesvi" {
         let run = snesvi::snes_vi(world, problem, &mut state, &settings.ssn_initial_shift)?;
@@ -886,23 +913,49 @@ fn solve<C: Communicator>(
         solved.last = run;
         return Ok((state, solved));
     }
+    let accuracy = u.stop == StopRule::Accuracy;
     match settings.friction {
         Friction::None => {
             let run = ubr::ubr(world, problem, &mut state, None, &ctl, events)?;
             solved.iterations = run.iterations;
             solved.converged = run.converged;
+            solved.failure = run.failure.clone();
+            solved.error_estimate = accuracy.then_some(run.error_estimate);
             solved.last = run;
         }
         Friction::Tresca => {
             solved.name = "UBR-TF";
-            let s = match explicit_bound(&mut state, &mut solved)? {
+            let bound = explicit_bound(
+                world,
+                local,
+                settings,
+                problem,
+                &mut state,
+                &mut solved,
+                &ctl,
+                events,
+                e_star,
+            )?;
+            let s = match bound {
                 Some(s) => s,
                 None => {
                     // Default: as the paper's 3D setting, nu_f x lambda_c of a frictionless solve.
                     let zero = vec![0.0; nc];
                     let run = ubr::ubr(world, problem, &mut state, Some(&zero), &ctl, events)?;
                     solved.frictionless_iterations = run.iterations;
-                    let s = state.stress_n.iter().map(|l| nu_f * l.abs()).collect();
+                    if !run.converged {
+                        solved.failure = run.failure.map(|f| {
+                            format!("the frictionless solve that gives the Tresca bound did not converge: {f}")
+                        });
+                        solved.last = ubr::UbrOutcome::default();
+                        return Ok((state, solved));
+                    }
+                    let s = state
+                        .surface
+                        .stress_n
+                        .iter()
+                        .map(|l| nu_f * l.abs())
+                        .collect();
                     state.reset()?;
                     s
                 }
@@ -910,12 +963,25 @@ fn solve<C: Communicator>(
             let run = ubr::ubr(world, problem, &mut state, Some(&s), &ctl, events)?;
             solved.iterations = run.iterations;
             solved.converged = run.converged;
+            solved.failure = run.failure.clone();
+            solved.error_estimate = accuracy.then_some(run.error_estimate);
             solved.last = run;
             solved.bound = s;
         }
         Friction::Coulomb => {
             solved.name = "CF-FP";
-            let s0 = explicit_bound(&mut state, &mut solved)?.unwrap_or_else(|| vec![0.0; nc]);
+            let s0 = explicit_bound(
+                world,
+                local,
+                settings,
+                problem,
+                &mut state,
+                &mut solved,
+                &ctl,
+                events,
+                e_star,
+            )?
+            .unwrap_or_else(|| vec![0.0; nc]);
             let fp = cf_fp::cf_fp(
                 world,
                 problem,
@@ -925,11 +991,15 @@ fn solve<C: Communicator>(
                 &ctl,
                 u.fp_rtol,
                 u.fp_max_it,
+                u.fp_anderson,
                 events,
             )?;
             solved.iterations = fp.inner_iterations;
             solved.fixed_point_iterations = fp.fixed_point_iterations;
             solved.converged = fp.converged;
+            solved.failure = fp.failure.clone();
+            solved.error_estimate =
+                accuracy.then_some(fp.last.error_estimate.max(fp.fp_error_estimate));
             solved.last = fp.last;
             solved.fp_change = Some(fp.fp_change);
             solved.bound = fp.bound;
@@ -977,15 +1047,15 @@ pub struct Diagnostics {
 fn diagnostics<C: Communicator>(
     world: &C,
     p: &Problem,
-    st: &ubr::UbrState,
+    st: &UbrState,
     bound: &[f64],
 ) -> Result<Diagnostics, Error> {
     let d = p.dim;
     let cs = &p.contact;
-    let au = p.rhs0.duplicate()?;
-    p.matrix.mult(&st.u, &au)?;
+    let au = p.lin.rhs0.duplicate()?;
+    p.lin.matrix.mult(&st.u, &au)?;
     let (eq2, f2) = au.write(|a| {
-        p.rhs0.read(|b| {
+        p.lin.rhs0.read(|b| {
             p.load.read(|f| {
                 for (ai, bi) in a.iter_mut().zip(b) {
                     *ai -= bi;
@@ -997,16 +1067,16 @@ fn diagnostics<C: Communicator>(
                         // remove r B^T W B u, add B^T W lambda
                         let (bu, lam) = if p.tangential {
                             (
-                                st.un[i] * cs.n[c] + st.ut[i * d + c],
-                                st.stress_n[i] * cs.n[c] + st.stress_t[i * d + c],
+                                st.surface.un[i] * cs.n[c] + st.surface.ut[i * d + c],
+                                st.surface.stress_n[i] * cs.n[c] + st.surface.stress_t[i * d + c],
                             )
                         } else {
-                            (st.un[i] * cs.n[c], st.stress_n[i] * cs.n[c])
+                            (st.surface.un[i] * cs.n[c], st.surface.stress_n[i] * cs.n[c])
                         };
                         let r = if p.terms == ContactTerms::None {
                             0.0
                         } else {
-                            p.r
+                            p.lin.r_assembled()
                         };
                         a[base + c] += w * (lam - r * bu);
                     }
@@ -1024,10 +1094,10 @@ fn diagnostics<C: Communicator>(
                 let mut c2 = 0.0;
                 for i in 0..cs.len() {
                     let w = cs.w[i];
-                    c2 += (w * st.stress_n[i]).powi(2);
+                    c2 += (w * st.surface.stress_n[i]).powi(2);
                     if p.tangential {
                         for c in 0..d {
-                            c2 += (w * st.stress_t[i * d + c]).powi(2);
+                            c2 += (w * st.surface.stress_t[i * d + c]).powi(2);
                         }
                     }
                 }
@@ -1055,9 +1125,9 @@ fn diagnostics<C: Communicator>(
     let mut max_slip = 0.0f64;
     let mut max_stick_slip = 0.0f64;
     for i in 0..cs.len() {
-        let slip = norm(&st.ut[i * d..(i + 1) * d]);
+        let slip = norm(&st.surface.ut[i * d..(i + 1) * d]);
         max_slip = max_slip.max(slip);
-        if p.tangential && !st.slip[i] && meaningful(i) {
+        if p.tangential && !st.surface.slip[i] && meaningful(i) {
             max_stick_slip = max_stick_slip.max(slip);
         }
     }
@@ -1066,10 +1136,10 @@ fn diagnostics<C: Communicator>(
     let mut min_cos = 1.0f64;
     if p.tangential {
         for i in 0..cs.len() {
-            let ut = &st.ut[i * d..(i + 1) * d];
-            let lt = &st.stress_t[i * d..(i + 1) * d];
+            let ut = &st.surface.ut[i * d..(i + 1) * d];
+            let lt = &st.surface.stress_t[i * d..(i + 1) * d];
             let (nu, nl) = (norm(ut), norm(lt));
-            if st.slip[i] && meaningful(i) && nu > 1e-6 * max_slip && nl > 0.0 {
+            if st.surface.slip[i] && meaningful(i) && nu > 1e-6 * max_slip && nl > 0.0 {
                 let dot: f64 = ut.iter().zip(lt).map(|(a, b)| a * b).sum();
                 min_cos = min_cos.min(dot / (nu * nl));
             }
@@ -1077,12 +1147,12 @@ fn diagnostics<C: Communicator>(
     }
     let min_slip_alignment = -allreduce_max(world, -min_cos);
     for i in 0..cs.len() {
-        min_lambda = min_lambda.min(st.stress_n[i]);
-        max_pen = max_pen.max(st.un[i] - cs.g[i]);
+        min_lambda = min_lambda.min(st.surface.stress_n[i]);
+        max_pen = max_pen.max(st.surface.un[i] - cs.g[i]);
         max_gap = max_gap.max(cs.g[i].abs());
-        compl += cs.w[i] * st.stress_n[i] * (cs.g[i] - st.un[i]);
+        compl += cs.w[i] * st.surface.stress_n[i] * (cs.g[i] - st.surface.un[i]);
         if !bound.is_empty() {
-            let lt = st.stress_t[i * d..(i + 1) * d]
+            let lt = st.surface.stress_t[i * d..(i + 1) * d]
                 .iter()
                 .map(|v| v * v)
                 .sum::<f64>()
@@ -1137,6 +1207,7 @@ struct Summary<'a> {
     diag: &'a Diagnostics,
     /// Peak memory: rank 0, largest rank, all ranks (MiB).
     mem: (f64, f64, f64),
+    choice: Option<&'a penalty::Choice>,
 }
 
 fn print_summary(m: &Summary) {
@@ -1181,7 +1252,7 @@ fn print_summary(m: &Summary) {
     if s.friction != Friction::None {
         println!("  friction        nu_f = {}", s.friction_coefficient);
     }
-    println!("  linear solver   {}", m.problem.ksp_description);
+    println!("  linear solver   {}", m.problem.lin.description);
     if res.name == "SNES-VI" {
         println!(
             "  iterations      {} Newton iterations of PETSc's vinewtonrsls ({} linear)",
@@ -1212,17 +1283,48 @@ fn print_summary(m: &Summary) {
             }
         );
     } else {
+        let r = m.problem.r();
+        let source = match m.choice {
+            Some(c) if c.source == penalty::Source::Auto => {
+                let moved = if c.r == c.r0 {
+                    "kept: within 3x of the estimate"
+                } else if c.refactorized {
+                    "refactorized"
+                } else {
+                    "moved without refactorization"
+                };
+                if c.estimate.is_finite() {
+                    format!(
+                        "auto: spectral estimate {:.4e} from {} Lanczos solves, trial {:.4e} {moved}",
+                        c.estimate, c.steps, c.r0
+                    )
+                } else {
+                    format!(
+                        "auto: trial {:.4e} (too few candidates for an estimate)",
+                        c.r0
+                    )
+                }
+            }
+            _ => "option -ubr_r".to_string(),
+        };
         println!(
-            "  r               {} (rho = {}, r/E = {})",
-            s.ubr.r,
-            s.ubr.rho,
-            s.ubr.r / s.young
+            "  r               {:.6e} (r/E = {:.4}; {source})",
+            r,
+            r / s.young
         );
+        if let Some(rho) = s.ubr.rho {
+            println!("  rho             {rho} (-ubr_rho)");
+        }
         if s.ubr.anderson > 0 {
             println!(
-                "  Anderson        memory {} (safeguarded type II on (phi, lambda))",
-                s.ubr.anderson
+                "  Anderson        memory {} (safeguarded type II on z = lambda + r B u): {} of {} evaluations extrapolated, {} rejected",
+                s.ubr.anderson,
+                res.last.anderson_steps,
+                res.last.iterations,
+                res.last.anderson_rejected
             );
+        } else {
+            println!("  Anderson        off (-ubr_anderson 0: the paper's plain iteration)");
         }
     }
     if res.frictionless_iterations > 0 {
@@ -1242,17 +1344,31 @@ fn print_summary(m: &Summary) {
         );
     }
     if !ssn_like(res.name) {
+        let verdict = if res.converged {
+            "converged"
+        } else {
+            "NOT converged"
+        };
+        if s.ubr.stop == StopRule::Paper {
+            println!(
+                "  iterations      {}, {verdict} (paper's test, last run: rel. change (4.16) {:.3e}, target {:.1e}; residual {:.3e}, target {:.1e})",
+                res.iterations, res.last.criterion, s.ubr.rtol, res.last.residual, s.ubr.residual_tol
+            );
+        } else {
+            println!(
+                "  iterations      {}, {verdict}: estimated error of lambda {:.3e} (relative, max norm; target {:.1e}); the paper's (4.16) {:.3e}",
+                res.iterations,
+                res.error_estimate.unwrap_or(f64::NAN),
+                s.ubr.lambda_rtol,
+                res.last.criterion
+            );
+        }
         println!(
-        "  iterations      {}, {} (last run: rel. change {:.3e}, target {:.1e}; residual {:.3e}, target {:.1e})",
-        res.iterations,
-        if res.converged { "converged" } else { "NOT converged" },
-        res.last.criterion,
-        s.ubr.rtol,
-        res.last.residual,
-        s.ubr.residual_tol
-    );
+            "  linear solves   {} (r choice included)",
+            m.problem.lin.solves
+        );
     }
-    if m.problem.iterative {
+    if m.problem.lin.iterative {
         println!("  inner its       {} in total", m.inner_total);
     }
     if s.friction != Friction::None {

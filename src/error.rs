@@ -7,6 +7,9 @@ use std::fmt;
 pub enum Error {
     /// Bad input: an option, a file or a line is wrong. Exit status 2.
     BadInput(String),
+    /// An ill-posed scene: a rigid motion that nothing restrains (named in
+    /// the message). Exit status 2, like bad input: the scene must change.
+    IllPosed(String),
     /// The contact iteration did not converge. Exit status 3.
     NotConverged(String),
     /// A linear solve failed (e.g. a failed factorization). Exit status 3.
@@ -20,7 +23,7 @@ pub enum Error {
 impl Error {
     pub fn exit_code(&self) -> i32 {
         match self {
-            Error::BadInput(_) => 2,
+            Error::BadInput(_) | Error::IllPosed(_) => 2,
             Error::NotConverged(_) | Error::LinearSolver(_) => 3,
             Error::Petsc { .. } | Error::Internal(_) => 1,
         }
@@ -31,6 +34,7 @@ impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Error::BadInput(m) => write!(f, "error: {m}"),
+            Error::IllPosed(m) => write!(f, "error: ill-posed scene: {m}"),
             Error::NotConverged(m) => write!(f, "not converged: {m}"),
             Error::LinearSolver(m) => write!(f, "error: {m}"),
             Error::Petsc { message, .. } => write!(f, "PETSc error: {message}"),

@@ -11,4 +11,4 @@ pub mod petsc;
 pub mod report;
 pub mod solver;
 
-pub use app::{Events, Stages};
+pub use petsc::{Events, Stages};

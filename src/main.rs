@@ -28,7 +28,10 @@ fn main() {
             Err(e) => {
                 let collective = matches!(
                     e,
-                    Error::BadInput(_) | Error::NotConverged(_) | Error::LinearSolver(_)
+                    Error::BadInput(_)
+                        | Error::IllPosed(_)
+                        | Error::NotConverged(_)
+                        | Error::LinearSolver(_)
                 );
                 if !collective {
                     // Possibly seen by this rank only: end every rank now.

@@ -57,8 +57,8 @@ fn missing_mesh_file() {
 fn not_a_gmsh_file() {
     expect_bad(
         "notgmsh",
-        &hertz_args("options/hertz", &[]),
-        "options/hertz",
+        &hertz_args("options/hertz-paper", &[]),
+        "options/hertz-paper",
     );
 }
 

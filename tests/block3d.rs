@@ -24,7 +24,7 @@ const MESHES: [(&str, f64); 5] = [
 #[test]
 fn tables5_6_iterations() {
     for (mesh, paper_nodes) in MESHES {
-        let (run, r, rows) = solve_rows("t5", 2, &block("options/block3d", mesh, &[]));
+        let (run, r, rows) = solve_rows("t5", 2, &block("options/block3d-paper", mesh, &[]));
         let nodes = num(&r, "nodes");
         assert!(
             (nodes - paper_nodes).abs() < 0.03 * paper_nodes,
@@ -40,7 +40,7 @@ fn tables5_6_iterations() {
             run.stdout
         );
 
-        let (run, r, _) = solve_rows("t6tf", 2, &block("options/block3d-tresca", mesh, &[]));
+        let (run, r, _) = solve_rows("t6tf", 2, &block("options/block3d-tresca-paper", mesh, &[]));
         let its = num(&r, "iterations");
         assert!(
             (35.0..=70.0).contains(&its),
@@ -48,7 +48,11 @@ fn tables5_6_iterations() {
             run.stdout
         );
 
-        let (run, r, _) = solve_rows("t6cf", 2, &block("options/block3d-coulomb", mesh, &[]));
+        let (run, r, _) = solve_rows(
+            "t6cf",
+            2,
+            &block("options/block3d-coulomb-paper", mesh, &[]),
+        );
         let fp = num(&r, "fixed_point_iterations");
         let inner = num(&r, "iterations");
         assert!(
@@ -68,7 +72,7 @@ fn contact_force_matches_peers() {
         ("meshes/block3d_2357.msh", 93.0e3),
         ("meshes/block3d_10761.msh", 88.2e3),
     ] {
-        let (run, r, _) = solve_rows("force3d", 2, &block("options/block3d", mesh, &[]));
+        let (run, r, _) = solve_rows("force3d", 2, &block("options/block3d-paper", mesh, &[]));
         let f = num(&r, "contact_force");
         assert!(
             (f - peer).abs() < 0.03 * peer,
@@ -87,13 +91,13 @@ fn mumps_and_gamg_cg_agree() {
     let (_, _, direct) = solve_rows(
         "mumps3d",
         2,
-        &block("options/block3d", mesh, &["-ubr_rtol", "1e-10"]),
+        &block("options/block3d-paper", mesh, &["-ubr_rtol", "1e-10"]),
     );
     let (run, r, gamg) = solve_rows(
         "gamg3d",
         2,
         &block(
-            "options/block3d",
+            "options/block3d-paper",
             mesh,
             &["-ubr_rtol", "1e-10", "-ksp_type", "cg", "-pc_type", "gamg"],
         ),
@@ -114,7 +118,7 @@ fn mumps_and_gamg_cg_agree() {
         let (_, _, other) = solve_rows(
             "mumps3d_n",
             n,
-            &block("options/block3d", mesh, &["-ubr_rtol", "1e-10"]),
+            &block("options/block3d-paper", mesh, &["-ubr_rtol", "1e-10"]),
         );
         assert_eq!(other.len(), direct.len());
         for (a, b) in direct.iter().zip(&other) {
@@ -145,7 +149,7 @@ fn mumps_and_gamg_cg_agree() {
 #[test]
 fn coulomb_3d_ranks_and_optimality() {
     let args = block(
-        "options/block3d-coulomb",
+        "options/block3d-coulomb-paper",
         "meshes/block3d_739.msh",
         &["-ubr_rtol", "1e-12", "-ubr_fp_rtol", "1e-10"],
     );
@@ -183,7 +187,7 @@ fn generated_block() {
         2,
         &[
             "-options_file",
-            "options/block3d",
+            "options/block3d-paper",
             "-mesh_generate",
             "block3d",
             "-mesh_h",

@@ -12,7 +12,7 @@ const MESHES: [&str; 5] = [
 ];
 
 fn hertz<'a>(mesh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
-    let mut v = vec!["-options_file", "options/hertz", "-mesh", mesh];
+    let mut v = vec!["-options_file", "options/hertz-paper", "-mesh", mesh];
     v.extend_from_slice(extra);
     v
 }
@@ -139,7 +139,7 @@ fn ssn_snesvi_and_ubr_agree_in_3d() {
     let block = |extra: &[&'static str]| -> Vec<&'static str> {
         let mut v = vec![
             "-options_file",
-            "options/block3d",
+            "options/block3d-paper",
             "-mesh",
             "meshes/block3d_739.msh",
         ];

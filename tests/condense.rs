@@ -73,7 +73,7 @@ fn ubr_c_and_anderson() {
     // (measured 9e-8 here); still far below the 1e-5 error of this tolerance.
     same_as_full(
         "aa",
-        &hertz_args(MESH, &["-ubr_anderson", "10", "-ubr_rtol", "1e-8"]),
+        &hertz_aa_args(MESH, &["-ubr_anderson", "10", "-ubr_rtol", "1e-8"]),
         274.0,
         1e-6,
     );
@@ -82,8 +82,8 @@ fn ubr_c_and_anderson() {
 #[test]
 fn tresca_and_coulomb() {
     for (name, file) in [
-        ("tf", "options/hertz-tresca"),
-        ("fp", "options/hertz-coulomb"),
+        ("tf", "options/hertz-tresca-paper"),
+        ("fp", "options/hertz-coulomb-paper"),
     ] {
         let r = same_as_full(name, &["-options_file", file, "-mesh", MESH], 274.0, 1e-9);
         assert_eq!(r["converged"], serde_json::Value::Bool(true), "{name}");
@@ -131,7 +131,7 @@ fn where_it_does_not_apply() {
     assert!(run.stdout.contains("UBR-C    38"), "{}", run.stdout);
     let block = [
         "-options_file",
-        "options/block3d",
+        "options/block3d-paper",
         "-mesh",
         "meshes/block3d_739.msh",
     ];

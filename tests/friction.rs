@@ -21,7 +21,8 @@ fn scene<'a>(file: &'a str, mesh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
 #[test]
 fn table3_tresca_iterations() {
     for mesh in MESHES {
-        let (run, r, rows) = solve_rows("table3", 2, &scene("options/hertz-tresca", mesh, &[]));
+        let (run, r, rows) =
+            solve_rows("table3", 2, &scene("options/hertz-tresca-paper", mesh, &[]));
         let its = num(&r, "iterations");
         assert!(
             (35.0..=70.0).contains(&its),
@@ -41,7 +42,11 @@ fn table3_tresca_iterations() {
 #[test]
 fn table4_coulomb_iterations() {
     for mesh in MESHES {
-        let (run, r, _) = solve_rows("table4", 2, &scene("options/hertz-coulomb", mesh, &[]));
+        let (run, r, _) = solve_rows(
+            "table4",
+            2,
+            &scene("options/hertz-coulomb-paper", mesh, &[]),
+        );
         let fp = num(&r, "fixed_point_iterations");
         let inner = num(&r, "iterations");
         assert!(
@@ -91,7 +96,7 @@ fn friction_laws_at_tight_tolerance() {
         "tresca_tight",
         2,
         &scene(
-            "options/hertz-tresca",
+            "options/hertz-tresca-paper",
             "meshes/hertz_1692.msh",
             &["-ubr_rtol", "1e-12"],
         ),
@@ -102,7 +107,7 @@ fn friction_laws_at_tight_tolerance() {
         "coulomb_tight",
         2,
         &scene(
-            "options/hertz-coulomb",
+            "options/hertz-coulomb-paper",
             "meshes/hertz_1692.msh",
             &["-ubr_rtol", "1e-12", "-ubr_fp_rtol", "1e-10"],
         ),
@@ -117,12 +122,15 @@ fn zero_friction_is_frictionless() {
     let (_, _, free) = solve_rows(
         "free",
         1,
-        &scene("options/hertz", "meshes/hertz_1692.msh", &tight),
+        &scene("options/hertz-paper", "meshes/hertz_1692.msh", &tight),
     );
     let pmax = free.iter().map(|x| x.lambda_n).fold(0.0, f64::max);
     let variants: [(&str, Vec<&str>); 2] = [
-        ("options/hertz-coulomb", vec!["-friction_coefficient", "0"]),
-        ("options/hertz-tresca", vec!["-tresca_bound", "0"]),
+        (
+            "options/hertz-coulomb-paper",
+            vec!["-friction_coefficient", "0"],
+        ),
+        ("options/hertz-tresca-paper", vec!["-tresca_bound", "0"]),
     ];
     for (file, extra) in variants {
         let mut e = extra.clone();
@@ -150,7 +158,7 @@ fn large_friction_sticks_everything() {
         "stick",
         2,
         &scene(
-            "options/hertz-coulomb",
+            "options/hertz-coulomb-paper",
             "meshes/hertz_1692.msh",
             &["-friction_coefficient", "100"],
         ),
@@ -169,8 +177,12 @@ fn large_friction_sticks_everything() {
 #[test]
 fn coulomb_peak_higher_and_zone_narrower() {
     let mesh = "meshes/hertz_37473.msh";
-    let (_, free, _) = solve_rows("free37", 2, &scene("options/hertz", mesh, &[]));
-    let (_, coul, _) = solve_rows("coul37", 2, &scene("options/hertz-coulomb", mesh, &[]));
+    let (_, free, _) = solve_rows("free37", 2, &scene("options/hertz-paper", mesh, &[]));
+    let (_, coul, _) = solve_rows(
+        "coul37",
+        2,
+        &scene("options/hertz-coulomb-paper", mesh, &[]),
+    );
     let (pf, pc) = (num(&free, "peak_pressure"), num(&coul, "peak_pressure"));
     let (nf, nc) = (num(&free, "contact_active"), num(&coul, "contact_active"));
     println!("peak {pc} vs {pf}, contact nodes {nc} vs {nf}");
@@ -184,7 +196,7 @@ fn coulomb_one_numeric_factorization() {
     let run = mpirun(
         2,
         &scene(
-            "options/hertz-coulomb",
+            "options/hertz-coulomb-paper",
             "meshes/hertz_1692.msh",
             &["-log_view"],
         ),
@@ -203,7 +215,7 @@ fn coulomb_one_numeric_factorization() {
 #[test]
 fn friction_rank_count_independence() {
     let args = scene(
-        "options/hertz-coulomb",
+        "options/hertz-coulomb-paper",
         "meshes/hertz_1692.msh",
         &["-ubr_rtol", "1e-12", "-ubr_fp_rtol", "1e-10"],
     );

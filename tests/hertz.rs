@@ -191,7 +191,7 @@ fn msh22_msh41_and_generated_meshes() {
     }
     let args = [
         "-options_file",
-        "options/hertz",
+        "options/hertz-paper",
         "-mesh_generate",
         "hertz2d",
         "-mesh_h",

@@ -19,7 +19,7 @@ fn pvtu_reads_back_with_vtk() {
         2,
         &[
             "-options_file",
-            "options/hertz-coulomb",
+            "options/hertz-coulomb-paper",
             "-vtk",
             pvtu.to_str().unwrap(),
             "-report",
@@ -113,7 +113,7 @@ fn plots_are_pngs() {
         2,
         &[
             "-options_file",
-            "options/hertz-tresca",
+            "options/hertz-tresca-paper",
             "-plot_contact",
             c.to_str().unwrap(),
             "-plot_history",
@@ -141,7 +141,7 @@ fn unwritable_output_is_bad_input_at_once() {
             2,
             &[
                 "-options_file",
-                "options/hertz",
+                "options/hertz-paper",
                 opt,
                 "/nonexistent-dir/x.out",
             ],
@@ -173,7 +173,7 @@ fn sigterm_leaves_no_partial_output() {
             "2",
             BIN,
             "-options_file",
-            "options/hertz",
+            "options/hertz-paper",
             "-mesh",
             "meshes/hertz_37473.msh",
         ])

@@ -189,9 +189,67 @@ pub fn project_tangential(
     slip
 }
 
+/// The projection (4.14)-(4.15) with the update (4.4) at rho = r, written on
+/// `z = lambda + r u_n` (the only combination of lambda and u_n it reads):
+/// returns `(phi, lambda_next, in_contact)` with
+/// `lambda_next = (z - r g)^+` and `phi = (z - lambda_next) / r`.
+#[inline]
+pub fn project_normal_z(z: f64, g: f64, r: f64) -> (f64, f64, bool) {
+    let gamma = (z - r * g).max(0.0);
+    ((z - gamma) / r, gamma, gamma > 0.0)
+}
+
+/// The projection (5.5) with the update at rho = r, on
+/// `z = lambda_t + r u_t`: `lambda_next` is z projected onto the ball of
+/// radius s, `phi = (z - lambda_next) / r`. Returns whether the node slips.
+#[inline]
+pub fn project_tangential_z(
+    z: &[f64],
+    s: f64,
+    r: f64,
+    phi: &mut [f64],
+    lambda_next: &mut [f64],
+) -> bool {
+    let norm = z.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let slip = norm > s;
+    let factor = if slip { s / norm } else { 1.0 };
+    for c in 0..z.len() {
+        lambda_next[c] = factor * z[c];
+        phi[c] = (z[c] - lambda_next[c]) / r;
+    }
+    slip
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The z forms agree with the paper's forms at rho = r.
+    #[test]
+    fn z_forms_match_the_paper_forms() {
+        let r = 2.5;
+        for &(un, lam, g) in &[
+            (0.5, 0.0, 0.2),
+            (-1.0, 2.0, 0.0),
+            (0.1, 10.0, 0.3),
+            (0.3, 0.1, -0.2),
+        ] {
+            let (p1, l1, c1) = project_normal(un, lam, g, r, r);
+            let (p2, l2, c2) = project_normal_z(lam + r * un, g, r);
+            assert!((p1 - p2).abs() < 1e-12 && (l1 - l2).abs() < 1e-12 && c1 == c2);
+        }
+        let (ut, lt) = ([0.3, -0.4], [0.2, 0.1]);
+        for s in [0.0, 0.5, 10.0] {
+            let (mut p1, mut l1, mut p2, mut l2) = ([0.0; 2], [0.0; 2], [0.0; 2], [0.0; 2]);
+            let a = project_tangential(&ut, &lt, s, r, r, &mut p1, &mut l1);
+            let z = [lt[0] + r * ut[0], lt[1] + r * ut[1]];
+            let b = project_tangential_z(&z, s, r, &mut p2, &mut l2);
+            assert_eq!(a, b);
+            for c in 0..2 {
+                assert!((p1[c] - p2[c]).abs() < 1e-12 && (l1[c] - l2[c]).abs() < 1e-12);
+            }
+        }
+    }
 
     #[test]
     fn projection_is_feasible_and_idempotent() {

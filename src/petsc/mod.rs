@@ -16,7 +16,9 @@ pub mod sys {
     include!(concat!(env!("OUT_DIR"), "/petsc_sys.rs"));
 }
 
+mod log;
 mod objects;
+pub use log::{Events, Stages};
 pub use objects::*;
 
 use crate::error::Error;

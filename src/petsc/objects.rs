@@ -426,6 +426,58 @@ impl Ksp {
         }
     }
 
+    /// After [`Ksp::set_up`] with [`Ksp::request_schur`], before
+    /// [`Ksp::schur`] or any solve (which factorize it in place): a copy of
+    /// the Schur complement, `size x size`, column-major. MUMPS returns only
+    /// the lower triangle of a symmetric matrix (ICNTL(19) = 2); the copy
+    /// is made whole from it.
+    pub fn schur_copy(&self, size: usize) -> Result<Vec<f64>, Error> {
+        let mut pc: sys::PC = std::ptr::null_mut();
+        let mut factor: sys::Mat = std::ptr::null_mut();
+        let mut s: sys::Mat = std::ptr::null_mut();
+        let mut status: sys::MatFactorSchurStatus = 0;
+        unsafe {
+            check(sys::KSPGetPC(self.raw, &mut pc))?;
+            check(sys::PCFactorGetMatrix(pc, &mut factor))?;
+            check(sys::MatFactorCreateSchurComplement(
+                factor,
+                &mut s,
+                &mut status,
+            ))?;
+            let copy = Matrix { raw: s };
+            let mut a: *const f64 = std::ptr::null();
+            let mut lda: sys::PetscInt = 0;
+            check(sys::MatDenseGetLDA(copy.raw, &mut lda))?;
+            check(sys::MatDenseGetArrayRead(copy.raw, &mut a))?;
+            let lda = lda as usize;
+            let mut out = vec![0.0; size * size];
+            for j in 0..size {
+                for i in j..size {
+                    let v = *a.add(j * lda + i);
+                    out[j * size + i] = v;
+                    out[i * size + j] = v;
+                }
+            }
+            check(sys::MatDenseRestoreArrayRead(copy.raw, &mut a))?;
+            Ok(out)
+        }
+    }
+
+    /// Keep the preconditioner when the operator's values change (the
+    /// algebraic multigrid of `K + r B^T W B` serves another r as well).
+    pub fn set_reuse_preconditioner(&self, yes: bool) -> Result<(), Error> {
+        unsafe {
+            check(sys::KSPSetReusePreconditioner(
+                self.raw,
+                if yes {
+                    sys::PETSC_TRUE
+                } else {
+                    sys::PETSC_FALSE
+                },
+            ))
+        }
+    }
+
     /// After [`Ksp::set_up`] with [`Ksp::request_schur`]: factorizes the
     /// Schur complement S (dense LAPACK) and returns its solver.
     pub fn schur(&self, size: usize) -> Result<SchurSolver, Error> {
@@ -560,6 +612,67 @@ impl SchurSolver {
                 self.sol.raw,
             ))?
         };
+        self.sol.read(|v| x.copy_from_slice(v))
+    }
+}
+
+/// A dense symmetric positive definite matrix on this rank, factorized by
+/// LAPACK's Cholesky (PETSc's sequential dense matrix), and solves with it.
+pub struct DenseSpd {
+    raw: sys::Mat,
+    n: usize,
+    rhs: Vector,
+    sol: Vector,
+}
+
+impl Drop for DenseSpd {
+    fn drop(&mut self) {
+        unsafe {
+            sys::MatDestroy(&mut self.raw);
+        }
+    }
+}
+
+impl DenseSpd {
+    /// Factorizes the `n x n` matrix `a` (column-major, symmetric).
+    pub fn factor(n: usize, a: &[f64]) -> Result<DenseSpd, Error> {
+        assert_eq!(a.len(), n * n);
+        let mut raw: sys::Mat = std::ptr::null_mut();
+        unsafe {
+            check(sys::MatCreateSeqDense(
+                super::comm_self(),
+                n as sys::PetscInt,
+                n as sys::PetscInt,
+                std::ptr::null_mut(),
+                &mut raw,
+            ))?;
+        }
+        let m = DenseSpd {
+            raw,
+            n,
+            rhs: Vector::new_seq(n)?,
+            sol: Vector::new_seq(n)?,
+        };
+        unsafe {
+            let mut p: *mut f64 = std::ptr::null_mut();
+            check(sys::MatDenseGetArray(m.raw, &mut p))?;
+            std::slice::from_raw_parts_mut(p, n * n).copy_from_slice(a);
+            check(sys::MatDenseRestoreArray(m.raw, &mut p))?;
+            check(sys::MatAssemblyBegin(m.raw, sys::MAT_FINAL_ASSEMBLY))?;
+            check(sys::MatAssemblyEnd(m.raw, sys::MAT_FINAL_ASSEMBLY))?;
+            check(sys::MatSetOption(m.raw, sys::MAT_SPD, sys::PETSC_TRUE))?;
+            let mut info: sys::MatFactorInfo = Default::default();
+            check(sys::MatFactorInfoInitialize(&mut info))?;
+            check(sys::MatCholeskyFactor(m.raw, std::ptr::null_mut(), &info))?;
+        }
+        Ok(m)
+    }
+
+    /// `x = A^{-1} b`.
+    pub fn solve(&self, b: &[f64], x: &mut [f64]) -> Result<(), Error> {
+        assert_eq!(b.len(), self.n);
+        self.rhs.write(|v| v.copy_from_slice(b))?;
+        unsafe { check(sys::MatSolve(self.raw, self.rhs.raw, self.sol.raw))? };
         self.sol.read(|v| x.copy_from_slice(v))
     }
 }

@@ -5,14 +5,25 @@
 //! unless `-tresca_bound` says otherwise). Iteration m >= 0: solve the Tresca
 //! problem with bound s^m by UBR-TF, warm-started from the previous iterate,
 //! to the variable tolerance `eps_f^m = max(0.1^m, eps_f)` of section 7; then
-//! `s^{m+1} = nu_f |lambda_c^m|`; stop when (5.7)
-//! `||s^{m+1} - s^m||_{0,Gamma_c} < eps_fp ||s^{m+1}||_{0,Gamma_c}` and the
-//! last Tresca solve ran at the full tolerance. Every Tresca solve uses the
-//! same factorized matrix: one factorization for the whole run. A zero bound
-//! after a zero bound (nothing touches) is converged, never 0/0.
+//! `s^{m+1} = nu_f |lambda_c^m|`. Every Tresca solve uses the same factorized
+//! matrix: one factorization for the whole run. A zero bound after a zero
+//! bound (nothing touches) is converged, never 0/0.
+//!
+//! Stopping. Paper mode: (5.7) `||s^{m+1} - s^m||_{0,Gamma_c} < eps_fp
+//! ||s^{m+1}||_{0,Gamma_c}` with the last Tresca solve at the full
+//! tolerance. Accuracy mode (default): the inner tolerances follow the
+//! schedule `max(0.1^m, tol)` down to the target tol of lambda, and the
+//! fixed point stops on the same kind of guarantee as UBR: the change of
+//! lambda between two Tresca solutions (normal and tangential parts, each
+//! relative to its max norm) times the outer amplification `1 / (1 - q)`,
+//! q the largest recent ratio of consecutive changes, below tol / 4.
 
+use super::allreduce_max_n;
 use super::allreduce_sum;
-use super::ubr::{ubr, UbrControl, UbrOutcome, UbrState};
+use super::anderson::Anderson;
+use super::stopping::StopRule;
+use super::surface::UbrState;
+use super::ubr::{ubr, UbrControl, UbrOutcome};
 use super::Problem;
 use crate::error::Error;
 use mpi::traits::*;
@@ -25,55 +36,82 @@ pub struct CfFpOutcome {
     pub converged: bool,
     /// Relative change of s at the last fixed-point iteration, (5.7).
     pub fp_change: f64,
+    /// Accuracy mode: the outer error estimate of lambda.
+    pub fp_error_estimate: f64,
     /// The last Tresca run.
     pub last: UbrOutcome,
     /// The bound of the last Tresca solve.
     pub bound: Vec<f64>,
+    /// Why the fixed point stopped without converging.
+    pub failure: Option<String>,
 }
 
 /// Runs CF-FP from `s0` (one bound per owned candidate).
 #[allow(clippy::too_many_arguments)]
 pub fn cf_fp<C: Communicator>(
     world: &C,
-    problem: &Problem,
+    problem: &mut Problem,
     state: &mut UbrState,
     nu_f: f64,
     s0: Vec<f64>,
     ctl: &UbrControl,
     fp_rtol: f64,
     fp_max_it: usize,
-    events: &crate::Events,
+    fp_anderson: usize,
+    events: &crate::petsc::Events,
 ) -> Result<CfFpOutcome, Error> {
-    let cs = &problem.contact;
+    let w = problem.contact.w.clone();
+    let d = problem.dim;
     let root = world.rank() == 0;
+    let paper = ctl.stop == StopRule::Paper;
     let mut s = s0;
     let mut next = vec![0.0; s.len()];
     let mut out = CfFpOutcome::default();
+    // Accuracy mode: the previous Tresca solution's multipliers, and the
+    // recent changes between solutions.
+    let mut prev: Option<(Vec<f64>, Vec<f64>)> = None;
+    let mut changes: Vec<f64> = Vec::new();
+    let mut outer = (fp_anderson > 0).then(|| Anderson::new(fp_anderson, w.clone()));
     for m in 0..fp_max_it {
         // The paper's variable inner tolerance eps_f^m = max(0.1^m, eps_f);
         // our dual and tension tests loosen with it (an open node's stress is
         // r (u_n^k - u_n^{k-1}) until u settles: at eps_f^0 = 1 a tension test
         // at its final value would hold the first, frictionless, solve for
         // tens of iterations).
-        let eps = 0.1f64.powi(m as i32).max(ctl.rtol);
-        let inner = UbrControl {
-            rtol: eps,
-            dual_rtol: ctl.dual_rtol * eps / ctl.rtol,
-            tension_tol: ctl.tension_tol * eps / ctl.rtol,
-            ..*ctl
+        let schedule = 0.1f64.powi(m as i32);
+        let (inner, full_tolerance) = if paper {
+            let eps = schedule.max(ctl.rtol);
+            (
+                UbrControl {
+                    rtol: eps,
+                    dual_rtol: ctl.dual_rtol * eps / ctl.rtol,
+                    tension_tol: ctl.tension_tol * eps / ctl.rtol,
+                    ..*ctl
+                },
+                eps <= ctl.rtol,
+            )
+        } else {
+            let tol = schedule.max(ctl.lambda_rtol);
+            (
+                UbrControl {
+                    lambda_rtol: tol,
+                    ..*ctl
+                },
+                tol <= ctl.lambda_rtol,
+            )
         };
         let run = ubr(world, problem, state, Some(&s), &inner, events)?;
         out.inner_iterations += run.iterations;
         out.fixed_point_iterations = m + 1;
-        out.last = run;
+        let st = &state.surface;
         // s^{m+1} = nu_f |lambda_c^m| (the multiplier of the Tresca solve)
-        for (x, l) in next.iter_mut().zip(&state.lambda_n) {
+        for (x, l) in next.iter_mut().zip(&st.lambda_n) {
             *x = nu_f * l.abs();
         }
         let mut local = [0.0; 2];
         for i in 0..s.len() {
-            local[0] += cs.w[i] * (next[i] - s[i]).powi(2);
-            local[1] += cs.w[i] * next[i] * next[i];
+            local[0] += w[i] * (next[i] - s[i]).powi(2);
+            local[1] += w[i] * next[i] * next[i];
         }
         let [diff2, norm2] = allreduce_sum(world, local);
         out.fp_change = if norm2 > 0.0 {
@@ -83,22 +121,116 @@ pub fn cf_fp<C: Communicator>(
         } else {
             f64::INFINITY
         };
+        // Accuracy mode: the change of lambda between Tresca solutions.
+        let mut estimate = f64::INFINITY;
+        if !paper {
+            let (ln, lt) = (&st.lambda_n, &st.lambda_t);
+            if let Some((pn, pt)) = &prev {
+                let mut ext = [0.0f64; 4];
+                for i in 0..ln.len() {
+                    ext[0] = ext[0].max((ln[i] - pn[i]).abs());
+                    ext[1] = ext[1].max(ln[i].abs());
+                    let (mut dt, mut nt) = (0.0, 0.0);
+                    for c in 0..d {
+                        dt += (lt[i * d + c] - pt[i * d + c]).powi(2);
+                        nt += lt[i * d + c].powi(2);
+                    }
+                    ext[2] = ext[2].max(dt.sqrt());
+                    ext[3] = ext[3].max(nt.sqrt());
+                }
+                let [dn, nn, dt, nt] = allreduce_max_n(world, ext);
+                let rel = |a: f64, b: f64| if a == 0.0 { 0.0 } else { a / b };
+                let change = rel(dn, nn).max(rel(dt, nt.max(1e-6 * nn)));
+                changes.push(change);
+                let q = changes
+                    .iter()
+                    .rev()
+                    .take(4)
+                    .zip(changes.iter().rev().skip(1))
+                    .map(|(a, b)| if *b > 0.0 { a / b } else { 0.0 })
+                    .fold(f64::NEG_INFINITY, f64::max);
+                estimate = if change == 0.0 {
+                    0.0
+                } else if changes.len() < 2 || q.is_nan() || q >= 1.0 {
+                    f64::INFINITY
+                } else {
+                    change / (1.0 - q.max(0.0))
+                };
+            }
+            prev = Some((ln.clone(), lt.clone()));
+            out.fp_error_estimate = estimate;
+        }
         if root && ctl.monitor {
             println!(
-                "  CF-FP {:3}: {} Tresca iterations (eps {:.0e}), ||s^(m+1) - s^m|| / ||s^(m+1)|| = {:.3e}, contact {} stick {} slip {}",
-                m, run.iterations, eps, out.fp_change, run.contact, run.stick, run.slip
+                "  CF-FP {:3}: {} Tresca iterations (tol {:.0e}), ||s^(m+1) - s^m|| / ||s^(m+1)|| = {:.3e}{}, contact {} stick {} slip {}",
+                m,
+                run.iterations,
+                if paper { inner.rtol } else { inner.lambda_rtol },
+                out.fp_change,
+                if paper {
+                    String::new()
+                } else {
+                    format!(", outer error estimate {estimate:.3e}")
+                },
+                run.contact,
+                run.stick,
+                run.slip
             );
         }
         out.bound.clone_from(&s);
-        if !run.converged && run.iterations >= ctl.max_it {
+        let stalled = !run.converged && run.iterations >= ctl.max_it;
+        out.last = run;
+        if stalled {
+            out.failure = out.last.failure.clone().map(|f| {
+                format!("CF-FP fixed-point iteration {m}: the Tresca solve did not converge: {f}")
+            });
             break; // a Tresca solve that cannot converge: the fixed point cannot either
         }
-        let full_tolerance = eps <= ctl.rtol;
-        if out.fp_change < fp_rtol && full_tolerance && run.converged {
+        let done = if paper {
+            out.fp_change < fp_rtol
+        } else {
+            estimate <= 0.25 * ctl.lambda_rtol || (out.fp_change == 0.0 && m > 0)
+        };
+        if done && full_tolerance && out.last.converged {
             out.converged = true;
             break;
         }
-        std::mem::swap(&mut s, &mut next);
+        match outer.as_mut() {
+            // Anderson on the outer map s -> nu_f |lambda_c(s)|; a bound is
+            // never negative.
+            Some(aa) => {
+                let fnorm = allreduce_sum(world, [aa.local_norm2(&diff_of(&next, &s))])[0].sqrt();
+                let mut z = vec![0.0; s.len()];
+                aa.step(
+                    |a, b| world.all_reduce_into(a, b, mpi::collective::SystemOperation::sum()),
+                    &s,
+                    &next,
+                    fnorm,
+                    &mut z,
+                );
+                for (x, zi) in s.iter_mut().zip(&z) {
+                    *x = zi.max(0.0);
+                }
+            }
+            None => std::mem::swap(&mut s, &mut next),
+        }
+    }
+    if !out.converged && out.failure.is_none() {
+        out.failure = Some(if paper {
+            format!(
+                "CF-FP stopped after {} fixed-point iterations (-ubr_fp_max_it): relative change of s {:.3e} (target -ubr_fp_rtol {:.1e}); try -ubr_fp_max_it larger",
+                out.fixed_point_iterations, out.fp_change, fp_rtol
+            )
+        } else {
+            format!(
+                "CF-FP stopped after {} fixed-point iterations (-ubr_fp_max_it): the outer error estimate of lambda is {:.3e} (target -ubr_lambda_rtol {:.1e} / 4), relative change of s {:.3e}; try -ubr_fp_max_it larger",
+                out.fixed_point_iterations, out.fp_error_estimate, ctl.lambda_rtol, out.fp_change
+            )
+        });
     }
     Ok(out)
+}
+
+fn diff_of(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| x - y).collect()
 }

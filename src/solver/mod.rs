@@ -5,17 +5,27 @@
 //! columns eliminated symmetrically), the lifted load vector, and the KSP,
 //! whose factorization (`KSPSetUp`) happens once, in the Factorization stage.
 
+pub mod anderson;
 pub mod cf_fp;
+pub mod deferred;
+pub mod linear;
+pub mod penalty;
 pub mod snesvi;
 pub mod ssn;
+pub mod stopping;
+pub mod surface;
 pub mod ubr;
+pub mod wellposed;
+
+use linear::LinearSolver;
+use surface::Surface;
 
 use crate::contact::ContactSet;
 use crate::error::Error;
 use crate::fem;
 use crate::mesh::distribute::LocalMesh;
 use crate::options::Settings;
-use crate::petsc::{self, options, sys, Ksp, Matrix, NullSpace, SchurSolver, Vector};
+use crate::petsc::{self, options, sys, Ksp, Matrix, NullSpace, Vector};
 use mpi::collective::SystemOperation;
 use mpi::traits::*;
 
@@ -23,6 +33,13 @@ use mpi::traits::*;
 pub fn allreduce_sum<C: Communicator, const N: usize>(world: &C, vals: [f64; N]) -> [f64; N] {
     let mut out = [0.0; N];
     world.all_reduce_into(&vals[..], &mut out[..], SystemOperation::sum());
+    out
+}
+
+/// Elementwise sum of `vals` over all ranks.
+pub fn allreduce_sum_vec<C: Communicator>(world: &C, vals: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; vals.len()];
+    world.all_reduce_into(vals, &mut out[..], SystemOperation::sum());
     out
 }
 
@@ -44,63 +61,72 @@ pub fn allreduce_count<C: Communicator>(world: &C, v: usize) -> usize {
     out as usize
 }
 
+/// The local sums of `||u - u_prev||^2` and `||u||^2` with the lumped mass.
+pub fn mass_norms(lumped_mass: &[f64], d: usize, u: &[f64], u_prev: &[f64]) -> (f64, f64) {
+    let (mut du2, mut u2) = (0.0, 0.0);
+    for (j, m) in lumped_mass.iter().enumerate() {
+        for c in 0..d {
+            let x = u[j * d + c];
+            let dx = x - u_prev[j * d + c];
+            du2 += m * dx * dx;
+            u2 += m * x * x;
+        }
+    }
+    (du2, u2)
+}
+
 /// Everything the iterations need, assembled once.
 pub struct Problem {
     pub dim: usize,
-    /// `K + r B^T W B`, Dirichlet rows and columns replaced by `diag_scale * I`.
-    pub matrix: Matrix,
-    pub ksp: Ksp,
-    /// Right-hand side without contact terms: `f - A x_D` on free rows, `diag_scale * x_D` on Dirichlet rows.
-    pub rhs0: Vector,
+    /// `K_r = K + r B^T W B` (Dirichlet rows and columns replaced by
+    /// `diag_scale * I`), its solver, the load without contact terms, and r.
+    pub lin: LinearSolver,
     /// The load vector f (tractions), for the equilibrium check.
     pub load: Vector,
     /// Owned dofs that carry a Dirichlet condition.
     pub is_dirichlet: Vec<bool>,
     pub lumped_mass: Vec<f64>,
     pub contact: ContactSet,
-    pub r: f64,
+    /// Per contact unknown (candidate i, component c at `i * dim + c`): a
+    /// Dirichlet component.
+    pub contact_dirichlet: Vec<bool>,
     /// Whether `r B_t^T W B_t` is in the matrix too (friction).
     pub tangential: bool,
     /// Owned Dirichlet dofs and values, and the diagonal put on their rows.
     pub dirichlet: Vec<(usize, f64)>,
     pub diag_scale: f64,
-    /// The contact terms in `matrix`.
+    /// The contact terms in the matrix.
     pub terms: ContactTerms,
-    pub iterative: bool,
-    /// Inexact Uzawa: the inner tolerance follows the outer progress (iterative
-    /// solvers only, unless the user fixed -ksp_rtol).
-    pub adaptive_inner: bool,
+    /// First global node of this rank.
+    pub owned_start: usize,
     pub time_assembly: f64,
     pub time_factorization: f64,
     pub matrix_mallocs: f64,
-    pub ksp_description: String,
-    /// The UBR solve condensed onto the contact-node unknowns, when used.
-    pub condensed: Option<Condensed>,
 }
 
-/// Default largest number of contact unknowns for [`Condensed`], in 2D and
-/// 3D. Measured on one rank: hertz_37473 (658 unknowns) 2.2 -> 0.8 s; the 3D
-/// contact face is large against the factorization, which the Schur
-/// complement then slows more than it saves (block3d_2357, 786 unknowns:
-/// 0.26 -> 0.32 s; block3d_10761, 2286: 3.0 -> 4.1 s).
+impl Problem {
+    /// r of the UBR iteration (of the matrix, or of the condensed solver).
+    pub fn r(&self) -> f64 {
+        self.lin.r()
+    }
+
+    /// B and B^T W of the contact set.
+    pub fn surface(&self) -> Surface<'_> {
+        Surface {
+            cs: &self.contact,
+            dim: self.dim,
+            tangential: self.tangential,
+            dirichlet: &self.contact_dirichlet,
+        }
+    }
+}
+
+/// Default largest number of contact unknowns for the condensed back-end,
+/// in 2D and 3D. Measured on one rank: hertz_37473 (658 unknowns) 2.2 ->
+/// 0.8 s; the 3D contact face is large against the factorization, which the
+/// Schur complement then slows more than it saves (block3d_2357, 786
+/// unknowns: 0.26 -> 0.32 s; block3d_10761, 2286: 3.0 -> 4.1 s).
 pub const CONDENSE_MAX: [usize; 2] = [2000, 0];
-
-/// Static condensation of the UBR subproblem (4.5)/(5.3) onto the unknowns
-/// of the contact nodes (candidate i, component c at `i * dim + c`).
-///
-/// The right-hand side of (4.5) differs from the contact-free `rhs0` only on
-/// those unknowns, by `c = B^T W (r phi - lambda)`, so with the Schur
-/// complement S of the factorized matrix on them,
-/// `u_C = y0 + S^{-1} c`, where `y0` is the solution for `rhs0` there. MUMPS
-/// computes S during the one factorization; an iteration then costs a dense
-/// solve with S instead of a sparse solve of the whole system. The whole
-/// displacement is only needed by the relative change (4.16)/(5.6) and at the
-/// end: [`ubr::ubr`] solves for it, many right-hand sides at once, for the
-/// evaluations where every other stopping test passes.
-pub struct Condensed {
-    pub schur: SchurSolver,
-    pub y0: Vec<f64>,
-}
 
 /// The UBR matrix block `r w (n n^T)` (frictionless) or `r w I` (with friction) of one node.
 pub fn contact_block(dim: usize, n: &[f64], rw: f64, tangential: bool) -> Vec<f64> {
@@ -193,17 +219,21 @@ pub fn linear_solver(matrix: &Matrix, mesh: &LocalMesh) -> Result<(Ksp, String, 
 }
 
 impl Problem {
+    /// Assembles `K + r B^T W B` at `r` (none for SSN-C), the lifted load,
+    /// and the solver, and factorizes once (a direct solver): the condensed
+    /// back-end where it applies (one rank, MUMPS, few enough contact
+    /// unknowns, see [`CONDENSE_MAX`]).
     pub fn setup<C: Communicator>(
         world: &C,
         mesh: &LocalMesh,
         settings: &Settings,
         contact: ContactSet,
         terms: ContactTerms,
-        stages: &crate::Stages,
+        r: f64,
+        stages: &crate::petsc::Stages,
     ) -> Result<Problem, Error> {
         let comm = petsc::comm_world();
         let d = mesh.dim;
-        let r = settings.ubr.r;
         let tangential = terms == ContactTerms::Ubr { tangential: true };
         let t0 = std::time::Instant::now();
         let guard = stages.assembly.push()?;
@@ -262,9 +292,23 @@ impl Problem {
             }
         })?;
         let mut is_dirichlet = vec![false; nown];
-        for &(i, _) in &dir {
+        let mut xd_all = vec![0.0; nown];
+        for &(i, v) in &dir {
             is_dirichlet[i] = true;
+            xd_all[i] = v;
         }
+        let contact_dirichlet: Vec<bool> = contact
+            .node
+            .iter()
+            .flat_map(|&v| (0..d).map(move |c| v * d + c))
+            .map(|i| is_dirichlet[i])
+            .collect();
+        let xd_c: Vec<f64> = contact
+            .node
+            .iter()
+            .flat_map(|&v| (0..d).map(move |c| v * d + c))
+            .map(|i| xd_all[i])
+            .collect();
         a.set_spd()?;
         let matrix_mallocs = a.stats()?.mallocs;
         drop(guard);
@@ -272,10 +316,11 @@ impl Problem {
 
         let t1 = std::time::Instant::now();
         let guard = stages.factorization.push()?;
-        let (ksp, mut ksp_description, iterative) = linear_solver(&a, mesh)?;
+        let (ksp, description, iterative) = linear_solver(&a, mesh)?;
         let schur_size = contact.len() * d;
-        // Not when the change (4.16)/(5.6) of every iteration is wanted.
-        let every_change = settings.ubr.monitor || settings.plot_history.is_some();
+        // Not when the paper's change (4.16)/(5.6) of every iteration is wanted.
+        let every_change = settings.ubr.stop == stopping::StopRule::Paper
+            && (settings.ubr.monitor || settings.plot_history.is_some());
         let condense = terms != ContactTerms::None
             && !every_change
             && world.size() == 1
@@ -297,45 +342,53 @@ impl Problem {
         if terms != ContactTerms::None {
             ksp.set_up()?; // the one factorization of UBR
         }
-        let condensed = if condense {
-            let schur = ksp.schur(schur_size)?;
-            let u0 = rhs0.duplicate()?;
-            ksp.solve(&rhs0, &u0)?;
-            let y0 = u0.read(|u| {
-                contact
-                    .node
-                    .iter()
-                    .flat_map(|&v| (0..d).map(move |c| u[v * d + c]))
-                    .collect()
-            })?;
-            ksp_description.push_str(&format!(", condensed on the {schur_size} contact unknowns"));
-            Some(Condensed { schur, y0 })
-        } else {
-            None
-        };
-        drop(guard);
-        let time_factorization = t1.elapsed().as_secs_f64();
-        Ok(Problem {
-            dim: d,
-            matrix: a,
+        let adaptive_inner = iterative && !options::has_name("-ksp_rtol")?;
+        let lin = LinearSolver::new(
             ksp,
+            a,
             rhs0,
+            iterative,
+            adaptive_inner,
+            description,
+            r,
+            xd_c,
+            dir.clone(),
+        )?;
+        let mut problem = Problem {
+            dim: d,
+            lin,
             load,
             is_dirichlet,
             lumped_mass: el.lumped_mass,
             contact,
-            r,
+            contact_dirichlet,
             tangential,
             dirichlet: dir,
             diag_scale,
             terms,
-            adaptive_inner: iterative && !options::has_name("-ksp_rtol")?,
-            iterative,
+            owned_start: mesh.owned_start,
             time_assembly,
-            time_factorization,
+            time_factorization: 0.0,
             matrix_mallocs,
-            ksp_description,
-            condensed,
-        })
+        };
+        if condense {
+            let work = problem.lin.rhs0.duplicate()?;
+            let Problem {
+                lin,
+                contact,
+                contact_dirichlet,
+                ..
+            } = &mut problem;
+            let surface = Surface {
+                cs: contact,
+                dim: d,
+                tangential,
+                dirichlet: contact_dirichlet,
+            };
+            lin.condense(&surface, &work)?;
+        }
+        drop(guard);
+        problem.time_factorization = t1.elapsed().as_secs_f64();
+        Ok(problem)
     }
 }

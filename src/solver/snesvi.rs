@@ -7,7 +7,8 @@
 //! bound on one component. The contact pressure is the constraint reaction
 //! `lambda = -(K u - f).n / w`.
 
-use super::ubr::{UbrOutcome, UbrState};
+use super::surface::UbrState;
+use super::ubr::UbrOutcome;
 use super::{allreduce_sum, Problem};
 use crate::error::{bad, Error};
 use crate::petsc::{options, Snes};
@@ -31,8 +32,8 @@ pub fn snes_vi<C: Communicator>(
     };
     let sign = n[axis];
     options::set_default("-snes_linesearch_type", "basic")?;
-    let lower = problem.rhs0.duplicate()?;
-    let upper = problem.rhs0.duplicate()?;
+    let lower = problem.lin.rhs0.duplicate()?;
+    let upper = problem.lin.rhs0.duplicate()?;
     lower.set(-FREE)?;
     upper.set(FREE)?;
     let is_dir = &problem.is_dirichlet;
@@ -73,29 +74,30 @@ pub fn snes_vi<C: Communicator>(
             })
         })
     })???;
-    let snes = Snes::new_vi(&problem.matrix, &problem.rhs0, &lower, &upper)?;
+    let snes = Snes::new_vi(&problem.lin.matrix, &problem.lin.rhs0, &lower, &upper)?;
     let (its, lits) = snes.solve(&state.u)?;
     state.inner_iterations.push(lits);
     // The reaction: K u - f = -B^T W lambda.
-    let f = problem.rhs0.duplicate()?;
-    problem.matrix.mult(&state.u, &f)?;
-    f.axpy(-1.0, &problem.rhs0)?;
+    let f = problem.lin.rhs0.duplicate()?;
+    problem.lin.matrix.mult(&state.u, &f)?;
+    f.axpy(-1.0, &problem.lin.rhs0)?;
     let contact = state.u.read(|u| {
         f.read(|fv| {
             let mut contact = 0.0;
             for i in 0..nc {
                 let base = cs.node[i] * d;
                 let un: f64 = (0..d).map(|c| u[base + c] * n[c]).sum();
-                state.un[i] = un;
+                state.surface.un[i] = un;
                 for c in 0..d {
-                    state.ut[i * d + c] = u[base + c] - un * n[c];
+                    state.surface.ut[i * d + c] = u[base + c] - un * n[c];
                 }
                 let fn_: f64 = (0..d).map(|c| fv[base + c] * n[c]).sum();
                 let l = -fn_ / cs.w[i];
-                state.stress_n[i] = l;
-                state.lambda_n[i] = l;
-                state.in_contact[i] = un >= cs.g[i] - 1e-12 * cs.g[i].abs().max(1e-12) && l > 0.0;
-                if state.in_contact[i] {
+                state.surface.stress_n[i] = l;
+                state.surface.lambda_n[i] = l;
+                state.surface.in_contact[i] =
+                    un >= cs.g[i] - 1e-12 * cs.g[i].abs().max(1e-12) && l > 0.0;
+                if state.surface.in_contact[i] {
                     contact += 1.0;
                 }
             }

@@ -10,7 +10,8 @@
 //! so it is re-assembled and factorized every iteration; its nonzero pattern
 //! does not change, so the symbolic factorization is kept.
 
-use super::ubr::{UbrOutcome, UbrState};
+use super::surface::UbrState;
+use super::ubr::UbrOutcome;
 use super::{allreduce_sum, linear_solver, Problem};
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
@@ -35,7 +36,7 @@ pub fn ssn_c<C: Communicator>(
     mesh: &LocalMesh,
     state: &mut UbrState,
     ctl: &SsnControl,
-    events: &crate::Events,
+    events: &crate::petsc::Events,
 ) -> Result<(UbrOutcome, String), Error> {
     let d = problem.dim;
     let cs = &problem.contact;
@@ -44,9 +45,10 @@ pub fn ssn_c<C: Communicator>(
     let r = ctl.r;
     let root = world.rank() == 0;
     let lambda_hat = 0.0;
-    let a = problem.matrix.duplicate()?;
+    let a = problem.lin.matrix.duplicate()?;
     let (ksp, description, iterative) = linear_solver(&a, mesh)?;
-    let work = problem.rhs0.duplicate()?;
+    let work = problem.lin.rhs0.duplicate()?;
+    let rhs = problem.lin.rhs0.duplicate()?;
     let is_dir = &problem.is_dirichlet;
     // Dirichlet values at the owned dofs, for the lifting of the contact terms.
     let mut xd = vec![0.0; is_dir.len()];
@@ -107,7 +109,7 @@ pub fn ssn_c<C: Communicator>(
         // (4) K + r B_A^T W B_A, same pattern as K: numeric factorization only.
         {
             let _e = events.rhs.begin();
-            a.copy_from(&problem.matrix)?;
+            a.copy_from(&problem.lin.matrix)?;
             let g0 = mesh.owned_start * d;
             let mut idx = Vec::with_capacity(d);
             let mut vals = Vec::with_capacity(d * d);
@@ -132,8 +134,8 @@ pub fn ssn_c<C: Communicator>(
                 a.add_values(&idx, &idx, &vals)?;
             }
             a.assemble()?;
-            state.rhs_mut().copy_from(&problem.rhs0)?;
-            state.rhs_mut().write(|b| {
+            rhs.copy_from(&problem.lin.rhs0)?;
+            rhs.write(|b| {
                 for i in (0..nc).filter(|&i| active[i]) {
                     let base = cs.node[i] * d;
                     let w = cs.w[i];
@@ -150,15 +152,15 @@ pub fn ssn_c<C: Communicator>(
         ksp.set_operators(&a)?;
         let its = {
             let _e = events.solve.begin();
-            ksp.solve(state.rhs_ref(), &state.u)?
+            ksp.solve(&rhs, &state.u)?
         };
         state.inner_iterations.push(its);
         if !iterative {
             // A direct solve of a singular system (a body free to move that no
             // active node holds) does not always fail: check the residual.
             a.mult(&state.u, &work)?;
-            work.axpy(-1.0, state.rhs_ref())?;
-            let (res, bn) = (work.norm2()?, state.rhs_ref().norm2()?);
+            work.axpy(-1.0, &rhs)?;
+            let (res, bn) = (work.norm2()?, rhs.norm2()?);
             if res.is_nan() || res > 1e-6 * bn.max(f64::MIN_POSITIVE) {
                 let hint = if count == 0.0 {
                     "; no contact node is active and the body is free to move: give an initial guess that touches (-ssn_initial_shift, the paper uses 0,-0.01)"
@@ -181,18 +183,18 @@ pub fn ssn_c<C: Communicator>(
         for i in 0..nc {
             let base = cs.node[i] * d;
             let un: f64 = (0..d).map(|c| u[base + c] * n[c]).sum();
-            state.un[i] = un;
+            state.surface.un[i] = un;
             for c in 0..d {
-                state.ut[i * d + c] = u[base + c] - un * n[c];
+                state.surface.ut[i * d + c] = u[base + c] - un * n[c];
             }
             let l = if active[i] {
                 lambda_hat + r * (un - cs.g[i])
             } else {
                 0.0
             };
-            state.stress_n[i] = l;
-            state.lambda_n[i] = l;
-            state.in_contact[i] = active[i];
+            state.surface.stress_n[i] = l;
+            state.surface.lambda_n[i] = l;
+            state.surface.in_contact[i] = active[i];
             if active[i] {
                 contact += 1.0;
             }

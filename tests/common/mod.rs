@@ -49,9 +49,28 @@ pub fn mpirun(ranks: usize, args: &[&str]) -> Run {
     }
 }
 
-/// The Hertz scene of options/hertz with a different mesh and extra options.
+/// The Hertz scene of options/hertz-paper (the paper's Table 1 settings)
+/// with a different mesh and extra options.
 pub fn hertz_args<'a>(mesh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
-    let mut v = vec!["-options_file", "options/hertz", "-mesh", mesh];
+    let mut v = vec!["-options_file", "options/hertz-paper", "-mesh", mesh];
+    v.extend_from_slice(extra);
+    v
+}
+
+/// The Hertz scene with the paper's r and stopping test, Anderson-accelerated
+/// (`-ubr_anderson M` in `extra`; the paper's rho = 1.5 r is for the plain
+/// iteration only).
+pub fn hertz_aa_args<'a>(mesh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec![
+        "-options_file",
+        "options/hertz",
+        "-mesh",
+        mesh,
+        "-ubr_r",
+        "220",
+        "-ubr_stop",
+        "paper",
+    ];
     v.extend_from_slice(extra);
     v
 }

@@ -1,0 +1,199 @@
+//! When to stop a UBR run: one module for every algorithm.
+//!
+//! - **paper** (`-ubr_stop paper`): the relative change (4.16)/(5.6) of
+//!   `(u, phi)` below eps and, as in section 7, the constraint residual
+//!   `||B u - phi||_{0,Gamma_c}` below its tolerance; and the dual residual
+//!   `r ||phi^k - phi^{k-1}|| / ||lambda^{k+1}||` below `-ubr_dual_rtol`
+//!   (our addition: for a large r the change (4.16) stalls while the
+//!   multipliers are still far off).
+//! - **accuracy** (`-ubr_stop accuracy`, the default): a bound on the error
+//!   of the multipliers. A change is not an error: near a fixed point with
+//!   Jacobian J the error is about `(I - J)^{-1}` times the residual, and the
+//!   contraction of UBR's last phase (0.74-0.997 measured) makes that 4 to
+//!   400 times the change. So the test is `P_k K_k <= tol / 4` with no
+//!   status (open/contact/stick/slip) changed in the last 3 evaluations,
+//!   where `P_k` is the residual of the plain map in lambda (normal and
+//!   tangential parts, each relative to its own max norm) and `K_k`
+//!   estimates `||(I - J)^{-1}||`: from Anderson's secant pairs
+//!   (`sigma_max(dX dF^+)`, the largest of the last 10), or `1/(1 - q)` for
+//!   the plain iteration, q the largest of the last 10 ratios
+//!   `P_j / P_{j-1}`. In an independent prototype this held on 239 of 240
+//!   histories, at a median 1.17x the evaluations of an oracle that knows
+//!   the answer. The product `P_k K_k` is reported as the error estimate.
+
+use std::collections::VecDeque;
+
+/// The relative change (4.16)/(5.6): `sqrt((du2 + dphi2) / (u2 + phi2))`
+/// from the squared norms of the changes of u (lumped mass on Omega) and of
+/// phi (weights w_i on Gamma_c), and of the new values.
+pub fn paper_change(du2: f64, dphi2: f64, u2: f64, phi2: f64) -> f64 {
+    if u2 + phi2 > 0.0 {
+        ((du2 + dphi2) / (u2 + phi2)).sqrt()
+    } else {
+        0.0
+    }
+}
+
+/// Which stopping test (`-ubr_stop`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StopRule {
+    /// The error estimate of lambda below `-ubr_lambda_rtol`.
+    Accuracy,
+    /// The paper's (4.16)/(5.6), with `-ubr_rtol` and `-ubr_residual_tol`.
+    Paper,
+}
+
+/// Evaluations whose ratios or estimates the accuracy test remembers.
+const WINDOW: usize = 10;
+/// Evaluations without a status change the accuracy test needs.
+const STABLE: usize = 3;
+
+/// The accuracy test's memory over one run.
+#[derive(Clone, Debug)]
+pub struct Accuracy {
+    pub tol: f64,
+    /// The last `WINDOW + 1` residuals P.
+    p: VecDeque<f64>,
+    /// Anderson's amplification estimates of the last `WINDOW` evaluations.
+    k_aa: VecDeque<Option<f64>>,
+    /// Consecutive evaluations without a status change.
+    stable: usize,
+    /// The last P, K and their product.
+    pub residual: f64,
+    pub amplification: f64,
+    pub estimate: f64,
+}
+
+impl Accuracy {
+    pub fn new(tol: f64) -> Accuracy {
+        Accuracy {
+            tol,
+            p: VecDeque::new(),
+            k_aa: VecDeque::new(),
+            stable: 0,
+            residual: f64::INFINITY,
+            amplification: f64::INFINITY,
+            estimate: f64::INFINITY,
+        }
+    }
+
+    /// Records an evaluation: its residual `p`, how many statuses changed,
+    /// and (Anderson) the amplification its memory estimates (`None` for
+    /// the plain iteration). Returns the error estimate.
+    pub fn record(&mut self, p: f64, changes: usize, anderson: Option<Option<f64>>) -> f64 {
+        self.p.push_back(p);
+        if self.p.len() > WINDOW + 1 {
+            self.p.pop_front();
+        }
+        self.stable = if changes == 0 { self.stable + 1 } else { 0 };
+        let k = match anderson {
+            Some(est) => {
+                self.k_aa.push_back(est);
+                if self.k_aa.len() > WINDOW {
+                    self.k_aa.pop_front();
+                }
+                self.k_aa
+                    .iter()
+                    .flatten()
+                    .fold(None, |a: Option<f64>, &b| Some(a.map_or(b, |a| a.max(b))))
+                    .map_or(f64::INFINITY, |k| k.max(1.0))
+            }
+            None => {
+                // The largest recent contraction ratio of the plain iteration.
+                let q = self
+                    .p
+                    .iter()
+                    .zip(self.p.iter().skip(1))
+                    .map(|(&a, &b)| if a > 0.0 { b / a } else { 0.0 })
+                    .fold(f64::NEG_INFINITY, f64::max);
+                if self.p.len() < 3 || q.is_nan() || q >= 1.0 {
+                    f64::INFINITY
+                } else {
+                    1.0 / (1.0 - q.max(0.0))
+                }
+            }
+        };
+        self.residual = p;
+        self.amplification = k;
+        self.estimate = if p == 0.0 { 0.0 } else { p * k };
+        self.estimate
+    }
+
+    /// `P K <= tol / 4` with statuses stable.
+    pub fn satisfied(&self) -> bool {
+        self.estimate <= 0.25 * self.tol && self.stable >= STABLE
+    }
+
+    /// Whether only the status changes keep the test open.
+    pub fn statuses_unsettled(&self) -> bool {
+        self.estimate <= 0.25 * self.tol && self.stable < STABLE
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paper_change_is_relative() {
+        assert_eq!(paper_change(0.0, 0.0, 0.0, 0.0), 0.0);
+        assert!((paper_change(1.0, 3.0, 100.0, 300.0) - 0.1).abs() < 1e-15);
+    }
+
+    /// A geometric residual P_k = q^k: the plain estimate P/(1-q) is the
+    /// remaining sum of the series, the true error of a fixed-point iteration
+    /// contracting by q.
+    #[test]
+    fn plain_estimate_is_the_geometric_tail() {
+        let q: f64 = 0.9;
+        let mut a = Accuracy::new(1e-3);
+        let mut k = 0;
+        loop {
+            let p = q.powi(k);
+            let est = a.record(p, 0, None);
+            if k >= 3 {
+                let tail = p / (1.0 - q);
+                assert!((est - tail).abs() < 1e-9 * tail, "{est} vs {tail}");
+            }
+            if a.satisfied() {
+                break;
+            }
+            k += 1;
+        }
+        // Stops when q^k / (1 - q) <= tol / 4.
+        assert!(q.powi(k) / (1.0 - q) <= 0.25e-3);
+        assert!(q.powi(k - 1) / (1.0 - q) > 0.25e-3);
+    }
+
+    #[test]
+    fn status_changes_hold_the_test() {
+        let mut a = Accuracy::new(1e-3);
+        for _ in 0..5 {
+            a.record(1e-9, 0, Some(Some(10.0)));
+        }
+        assert!(a.satisfied());
+        a.record(1e-9, 2, Some(Some(10.0)));
+        assert!(!a.satisfied() && a.statuses_unsettled());
+        a.record(1e-9, 0, Some(Some(10.0)));
+        a.record(1e-9, 0, Some(Some(10.0)));
+        assert!(!a.satisfied());
+        a.record(1e-9, 0, Some(Some(10.0)));
+        assert!(a.satisfied());
+    }
+
+    #[test]
+    fn anderson_estimate_is_the_recent_maximum() {
+        let mut a = Accuracy::new(1e-3);
+        a.record(1e-5, 0, Some(Some(50.0)));
+        for _ in 0..9 {
+            a.record(1e-5, 0, Some(Some(2.0)));
+        }
+        assert_eq!(a.amplification, 50.0);
+        a.record(1e-5, 0, Some(None));
+        assert_eq!(a.amplification, 2.0);
+        // Nothing known yet: no stop.
+        let mut b = Accuracy::new(1e-3);
+        b.record(1e-12, 0, Some(None));
+        assert!(b.estimate.is_infinite());
+    }
+}

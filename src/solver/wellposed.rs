@@ -1,0 +1,648 @@
+//! Is the scene well posed? The rigid motions of each body (connected part
+//! of the mesh) against what restrains them: Dirichlet conditions, contact
+//! along n at the candidates, and, with friction, the tangential contact
+//! terms. Decided from the operator before anything is assembled: a rigid
+//! motion v is free when every constraint row vanishes on it, i.e. when it
+//! is in the null space of the Gram matrix `G = sum_rows c c^T` (one k x k
+//! matrix per body, k = 3 in 2D and 6 in 3D, reduced over the ranks), so a
+//! free motion is named before any solve rather than met as a zero pivot
+//! (one rank) or as an arbitrary drift (several ranks).
+//!
+//! The motions that no Dirichlet condition restrains are the null space of
+//! the Dirichlet-eliminated stiffness K: only the augmentation terms
+//! `r B^T W B` hold them in `K + r B^T W B` (the paper's floating Hertz body,
+//! section 4.1's remark). They are returned for the choice of r, whose
+//! spectrum they would otherwise dominate ([`super::penalty`]).
+
+use super::allreduce_sum_vec;
+use crate::contact::ContactSet;
+use crate::error::Error;
+use crate::mesh::distribute::LocalMesh;
+use crate::petsc::{self, sys, Gather, Vector};
+use mpi::traits::*;
+use nalgebra::{DMatrix, SymmetricEigen};
+
+/// A mode is free when its eigenvalue of the constraint Gram matrix is below
+/// this fraction of the matrix's trace (exactly free modes sit at round-off,
+/// 1e-16 of it; the weakest genuine restraint of a scene, a rotation held by
+/// two nodes a mesh size apart on a body 1e4 mesh sizes long, at 1e-8).
+const FREE_TOL: f64 = 1e-11;
+
+/// One rigid motion of one body, as coefficients of [`Bodies::basis`].
+#[derive(Clone, Debug)]
+pub struct Motion {
+    pub body: usize,
+    pub coef: Vec<f64>,
+}
+
+/// The bodies (connected parts) of the mesh and their rigid motions.
+pub struct Bodies {
+    dim: usize,
+    /// Body of every local node (owned and ghost).
+    pub node_body: Vec<usize>,
+    /// Centre (of the bounding box) and diameter of each body.
+    center: Vec<[f64; 3]>,
+    size: Vec<f64>,
+    /// Nodes of each body (global counts).
+    nodes: Vec<usize>,
+}
+
+/// Rigid-motion basis size.
+fn modes(dim: usize) -> usize {
+    if dim == 2 {
+        3
+    } else {
+        6
+    }
+}
+
+impl Bodies {
+    /// The connected parts of the mesh, by label propagation: each rank joins
+    /// the nodes of its cells (union-find), then the smallest global node
+    /// number of every part travels across the ranks through the ghost nodes
+    /// until no label changes (as many rounds as the part crosses ranks).
+    pub fn find<C: Communicator>(world: &C, mesh: &LocalMesh) -> Result<Bodies, Error> {
+        let d = mesh.dim;
+        let k = d + 1;
+        let nloc = mesh.num_local_nodes();
+        let mut parent: Vec<usize> = (0..nloc).collect();
+        fn root(p: &mut [usize], mut a: usize) -> usize {
+            while p[a] != a {
+                p[a] = p[p[a]];
+                a = p[a];
+            }
+            a
+        }
+        for cell in mesh.cells.chunks_exact(k) {
+            let mut r0 = root(&mut parent, cell[0]);
+            for &v in &cell[1..] {
+                let rv = root(&mut parent, v);
+                if rv != r0 {
+                    let (lo, hi) = if rv < r0 { (rv, r0) } else { (r0, rv) };
+                    parent[hi] = lo;
+                    r0 = lo;
+                }
+            }
+        }
+        let set: Vec<usize> = (0..nloc).map(|v| root(&mut parent, v)).collect();
+        // Label of each local set: the smallest global number seen.
+        let mut label = vec![u64::MAX; nloc];
+        for v in 0..nloc {
+            let g = mesh.node_global[v] as u64;
+            label[set[v]] = label[set[v]].min(g);
+        }
+        let owned = mesh.owned_count;
+        let labels = Vector::new(petsc::comm_world(), owned, 1)?;
+        let idx: Vec<sys::PetscInt> = mesh
+            .node_global
+            .iter()
+            .map(|&g| g as sys::PetscInt)
+            .collect();
+        let gather = Gather::new(&labels, &idx)?;
+        loop {
+            labels.write(|l| {
+                for v in 0..owned {
+                    l[v] = label[set[v]] as f64;
+                }
+            })?;
+            gather.gather(&labels)?;
+            let changed = gather.local.read(|all| {
+                let mut changed = 0usize;
+                for v in 0..nloc {
+                    let seen = all[v] as u64;
+                    if seen < label[set[v]] {
+                        label[set[v]] = seen;
+                        changed += 1;
+                    }
+                }
+                changed
+            })?;
+            if super::allreduce_count(world, changed) == 0 {
+                break;
+            }
+        }
+        // Number the bodies by their labels, in increasing order on every rank.
+        let mut mine: Vec<u64> = (0..owned).map(|v| label[set[v]]).collect();
+        mine.sort_unstable();
+        mine.dedup();
+        let counts = {
+            let mut all = vec![0i32; world.size() as usize];
+            world.all_gather_into(&(mine.len() as i32), &mut all[..]);
+            all
+        };
+        let total: usize = counts.iter().map(|&c| c as usize).sum();
+        let mut every = vec![0u64; total];
+        {
+            let displs: Vec<i32> = counts
+                .iter()
+                .scan(0i32, |acc, &c| {
+                    let s = *acc;
+                    *acc += c;
+                    Some(s)
+                })
+                .collect();
+            let mut part =
+                mpi::datatype::PartitionMut::new(&mut every[..], &counts[..], &displs[..]);
+            world.all_gather_varcount_into(&mine[..], &mut part);
+        }
+        every.sort_unstable();
+        every.dedup();
+        let nb = every.len();
+        let node_body: Vec<usize> = (0..nloc)
+            .map(|v| {
+                every
+                    .binary_search(&label[set[v]])
+                    .expect("every label is some rank's")
+            })
+            .collect();
+        // Bounding box and node count of each body.
+        let mut hi = vec![f64::NEG_INFINITY; nb * 3];
+        let mut lo_neg = vec![f64::NEG_INFINITY; nb * 3];
+        let mut count = vec![0.0; nb];
+        for (v, &b) in node_body.iter().enumerate().take(owned) {
+            count[b] += 1.0;
+            for (c, &x) in mesh.x(v).iter().enumerate() {
+                hi[b * 3 + c] = hi[b * 3 + c].max(x);
+                lo_neg[b * 3 + c] = lo_neg[b * 3 + c].max(-x);
+            }
+        }
+        let hi = allreduce_max_vec(world, &hi);
+        let lo_neg = allreduce_max_vec(world, &lo_neg);
+        let count = allreduce_sum_vec(world, &count);
+        let mut center = vec![[0.0; 3]; nb];
+        let mut size = vec![0.0; nb];
+        for b in 0..nb {
+            let mut diag2 = 0.0;
+            for c in 0..d {
+                let (h, l) = (hi[b * 3 + c], -lo_neg[b * 3 + c]);
+                center[b][c] = 0.5 * (h + l);
+                diag2 += (h - l) * (h - l);
+            }
+            size[b] = if diag2 > 0.0 { diag2.sqrt() } else { 1.0 };
+        }
+        Ok(Bodies {
+            dim: d,
+            node_body,
+            center,
+            size,
+            nodes: count.iter().map(|&c| c as usize).collect(),
+        })
+    }
+
+    pub fn len(&self) -> usize {
+        self.center.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.center.is_empty()
+    }
+
+    /// The rigid motions of body `b` at `x`: `out[j][c]` is component c of
+    /// basis motion j (translations along the axes, then the rotations about
+    /// the axes through the body's centre, scaled by its diameter so that
+    /// every basis motion moves the body by about 1).
+    pub fn basis(&self, b: usize, x: &[f64]) -> [[f64; 3]; 6] {
+        let mut out = [[0.0; 3]; 6];
+        let c = &self.center[b];
+        let l = self.size[b];
+        let dx: Vec<f64> = (0..self.dim).map(|i| (x[i] - c[i]) / l).collect();
+        for (j, row) in out.iter_mut().enumerate().take(self.dim) {
+            row[j] = 1.0;
+        }
+        if self.dim == 2 {
+            out[2] = [-dx[1], dx[0], 0.0];
+        } else {
+            out[3] = [0.0, -dx[2], dx[1]];
+            out[4] = [dx[2], 0.0, -dx[0]];
+            out[5] = [-dx[1], dx[0], 0.0];
+        }
+        out
+    }
+
+    /// The displacement of `m` at `x`.
+    pub fn displacement(&self, m: &Motion, x: &[f64]) -> [f64; 3] {
+        let basis = self.basis(m.body, x);
+        let mut u = [0.0; 3];
+        for (j, a) in m.coef.iter().enumerate() {
+            for c in 0..self.dim {
+                u[c] += a * basis[j][c];
+            }
+        }
+        u
+    }
+
+    /// Words for a rigid motion of body `b` given by `coef`.
+    fn describe(&self, b: usize, coef: &[f64]) -> String {
+        let d = self.dim;
+        let axis = ["x", "y", "z"];
+        let (t, w) = coef.split_at(d);
+        let tn = t.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let wn = w.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let dir = |v: &[f64], n: f64| -> String {
+            if let Some(i) = (0..v.len()).find(|&i| (v[i].abs() / n - 1.0).abs() < 1e-6) {
+                axis[i].to_string()
+            } else {
+                format!(
+                    "({})",
+                    v.iter()
+                        .map(|x| format!("{:.3}", x / n))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            }
+        };
+        if wn <= 1e-6 * tn {
+            return format!("translate along {}", dir(t, tn));
+        }
+        let c = &self.center[b];
+        let l = self.size[b];
+        if d == 2 {
+            // u = t + (w/l) e_z x (x - c): a rotation about p = c + l (-t_y, t_x) / w.
+            let p = [c[0] - l * t[1] / w[0], c[1] + l * t[0] / w[0]];
+            return format!("rotate about the point ({:.4}, {:.4})", p[0], p[1]);
+        }
+        // 3D: omega = w / l; a rotation about an axis when t is orthogonal to omega.
+        let along = t.iter().zip(w).map(|(a, b)| a * b).sum::<f64>() / wn;
+        if along.abs() <= 1e-6 * tn.max(wn) {
+            // The point of the axis closest to c: c + l (w x t) / |w|^2.
+            let cr = [
+                w[1] * t[2] - w[2] * t[1],
+                w[2] * t[0] - w[0] * t[2],
+                w[0] * t[1] - w[1] * t[0],
+            ];
+            let p: Vec<String> = (0..3)
+                .map(|i| format!("{:.4}", c[i] + l * cr[i] / (wn * wn)))
+                .collect();
+            return format!(
+                "rotate about the axis along {} through ({})",
+                dir(w, wn),
+                p.join(", ")
+            );
+        }
+        format!(
+            "move rigidly (a screw motion: translation {} with rotation about {})",
+            dir(t, tn),
+            dir(w, wn)
+        )
+    }
+}
+
+fn allreduce_max_vec<C: Communicator>(world: &C, v: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; v.len()];
+    world.all_reduce_into(v, &mut out[..], mpi::collective::SystemOperation::max());
+    out
+}
+
+/// What holds the bodies: the motions only contact holds (for the choice of
+/// r), after the check that every motion is held.
+pub struct Restraint {
+    pub bodies: Bodies,
+    /// Rigid motions that no Dirichlet condition restrains (orthonormal
+    /// coefficients per body): null vectors of the Dirichlet-eliminated K.
+    pub contact_held: Vec<Motion>,
+}
+
+/// Checks that every rigid motion of every body is restrained, by Dirichlet
+/// conditions (`dirichlet`: owned dofs `node * dim + component`), by contact
+/// along n at the candidates, or by the tangential contact terms when
+/// `friction`. A free motion is an ill-posed scene: an error naming it
+/// (exit 2), the same on every rank.
+pub fn check<C: Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    dirichlet: &[(usize, f64)],
+    cs: &ContactSet,
+    friction: bool,
+) -> Result<Restraint, Error> {
+    let bodies = Bodies::find(world, mesh)?;
+    let d = mesh.dim;
+    let k = modes(d);
+    let nb = bodies.len();
+    // Per body: G_D (Dirichlet) then G_C (contact), k x k each, and the
+    // number of candidates.
+    let per = 2 * k * k + 1;
+    let mut g = vec![0.0; nb * per];
+    let add = |g: &mut [f64], row: &[f64]| {
+        for a in 0..k {
+            for b in 0..k {
+                g[a * k + b] += row[a] * row[b];
+            }
+        }
+    };
+    let mut row = [0.0; 6];
+    for &(dof, _) in dirichlet {
+        let (v, c) = (dof / d, dof % d);
+        let b = bodies.node_body[v];
+        let basis = bodies.basis(b, mesh.x(v));
+        for j in 0..k {
+            row[j] = basis[j][c];
+        }
+        add(&mut g[b * per..b * per + k * k], &row[..k]);
+    }
+    let n = &cs.n;
+    for &v in &cs.node {
+        let b = bodies.node_body[v];
+        let basis = bodies.basis(b, mesh.x(v));
+        let gc = &mut g[b * per + k * k..b * per + 2 * k * k];
+        for j in 0..k {
+            row[j] = (0..d).map(|c| basis[j][c] * n[c]).sum();
+        }
+        add(gc, &row[..k]);
+        if friction {
+            let normal = row;
+            for c in 0..d {
+                for j in 0..k {
+                    row[j] = basis[j][c] - normal[j] * n[c];
+                }
+                add(gc, &row[..k]);
+            }
+        }
+        g[b * per + 2 * k * k] += 1.0;
+    }
+    let g = allreduce_sum_vec(world, &g);
+    let mut contact_held = Vec::new();
+    for b in 0..nb {
+        let gd = DMatrix::from_row_slice(k, k, &g[b * per..b * per + k * k]);
+        let gc = DMatrix::from_row_slice(k, k, &g[b * per + k * k..b * per + 2 * k * k]);
+        let candidates = g[b * per + 2 * k * k] as usize;
+        let all = &gd + &gc;
+        let scale = all.trace().max(f64::MIN_POSITIVE);
+        let free = null_space(&all, FREE_TOL * scale);
+        if !free.is_empty() {
+            return Err(Error::IllPosed(free_message(
+                &bodies, b, &free, candidates, friction, &gd,
+            )));
+        }
+        for coef in null_space(&gd, FREE_TOL * scale) {
+            contact_held.push(Motion { body: b, coef });
+        }
+    }
+    Ok(Restraint {
+        bodies,
+        contact_held,
+    })
+}
+
+/// Orthonormal eigenvectors of the symmetric `m` whose eigenvalues are below `tol`.
+fn null_space(m: &DMatrix<f64>, tol: f64) -> Vec<Vec<f64>> {
+    let eig = SymmetricEigen::new(m.clone());
+    (0..m.nrows())
+        .filter(|&i| eig.eigenvalues[i] <= tol)
+        .map(|i| eig.eigenvectors.column(i).iter().copied().collect())
+        .collect()
+}
+
+/// The message for the free motions `free` (orthonormal) of body `b`. The
+/// canonical motions (translations along the axes, rotations about the axes
+/// through the body's centre) that lie in the free space are named; what
+/// remains is described as it is.
+fn free_message(
+    bodies: &Bodies,
+    b: usize,
+    free: &[Vec<f64>],
+    candidates: usize,
+    friction: bool,
+    gd: &DMatrix<f64>,
+) -> String {
+    let d = bodies.dim;
+    let k = modes(d);
+    let in_free = |e: &[f64]| -> bool {
+        // |projection of e onto span(free)| = |e| = 1
+        let p2: f64 = free
+            .iter()
+            .map(|f| f.iter().zip(e).map(|(a, b)| a * b).sum::<f64>().powi(2))
+            .sum();
+        p2 > 1.0 - 1e-8
+    };
+    let mut words = Vec::new();
+    let mut named = 0;
+    let axis = ["x", "y", "z"];
+    for j in 0..k {
+        let mut e = vec![0.0; k];
+        e[j] = 1.0;
+        if in_free(&e) {
+            named += 1;
+            words.push(if j < d {
+                format!("translate along {}", axis[j])
+            } else if d == 2 {
+                "rotate in its plane".to_string()
+            } else {
+                format!("rotate about {}", axis[j - d])
+            });
+        }
+    }
+    if named < free.len() {
+        // The free space is not spanned by canonical motions: name its basis.
+        words.clear();
+        for f in free {
+            words.push(bodies.describe(b, f));
+        }
+    }
+    let what = match words.len() {
+        1 => words[0].clone(),
+        n => format!("{} and to {}", words[..n - 1].join(", to "), words[n - 1]),
+    };
+    let body = if bodies.len() > 1 {
+        let c = &bodies.center[b];
+        format!(
+            "the part of the mesh around ({}) ({} nodes, one of {} disconnected parts)",
+            (0..d)
+                .map(|i| format!("{:.4}", c[i]))
+                .collect::<Vec<_>>()
+                .join(", "),
+            bodies.nodes[b],
+            bodies.len()
+        )
+    } else {
+        "the body".to_string()
+    };
+    // Would friction hold what is free? Only where contact candidates exist
+    // and the motion is tangential; a motion that no Dirichlet condition and
+    // no candidate restrains needs a Dirichlet condition.
+    let held_by_dirichlet_somewhere = gd.trace() > 0.0;
+    let hint = if candidates == 0 {
+        if held_by_dirichlet_somewhere {
+            "nothing holds it (its Dirichlet conditions do not, and it has no contact candidate); add a Dirichlet condition"
+        } else {
+            "it has neither a Dirichlet condition nor a contact candidate; add a Dirichlet condition"
+        }
+    } else if friction {
+        "neither its Dirichlet conditions nor the contact can hold it; add a Dirichlet condition"
+    } else {
+        "frictionless contact cannot hold it; add a Dirichlet condition or friction"
+    };
+    format!("{body} is free to {what}: {hint}")
+}
+
+/// Frictionless contact can only push: along the rigid motions that only
+/// contact holds, the loads must be balanced by non-negative pressures.
+/// That is, the load's components `b_j = f . v_j` on those motions must lie
+/// in the cone of the candidates' pressure directions `a_i = w_i (n . v_j(x_i))_j`
+/// (a non-negative least-squares problem in at most 6 unknowns' worth of
+/// rows, solved on rank 0). Outside it no equilibrium exists: the loads pull
+/// the body off the obstacle, an ill-posed scene named now rather than met as
+/// a drift. (The prescribed displacements do no work on these motions, which
+/// vanish at the Dirichlet dofs; the gaps only decide where the body touches.)
+pub fn check_loads<C: Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    restraint: &Restraint,
+    cs: &ContactSet,
+    load: &[f64],
+) -> Result<(), Error> {
+    let modes = &restraint.contact_held;
+    let k = modes.len();
+    if k == 0 {
+        return Ok(());
+    }
+    let d = mesh.dim;
+    // b = f . v_j over the owned nodes.
+    let mut b = vec![0.0; k];
+    for v in 0..mesh.owned_count {
+        let x = mesh.x(v);
+        for (j, m) in modes.iter().enumerate() {
+            if restraint.bodies.node_body[v] != m.body {
+                continue;
+            }
+            let u = restraint.bodies.displacement(m, x);
+            for c in 0..d {
+                b[j] += load[v * d + c] * u[c];
+            }
+        }
+    }
+    let b = allreduce_sum_vec(world, &b);
+    // The columns a_i of the owned candidates, gathered on rank 0.
+    let mut cols: Vec<f64> = Vec::with_capacity(cs.len() * k);
+    for (i, &v) in cs.node.iter().enumerate() {
+        let x = mesh.x(v);
+        for m in modes {
+            let a = if restraint.bodies.node_body[v] == m.body {
+                let u = restraint.bodies.displacement(m, x);
+                cs.w[i] * (0..d).map(|c| u[c] * cs.n[c]).sum::<f64>()
+            } else {
+                0.0
+            };
+            cols.push(a);
+        }
+    }
+    let root = world.process_at_rank(0);
+    let counts = {
+        let mut all = vec![0i32; world.size() as usize];
+        world.all_gather_into(&(cols.len() as i32), &mut all[..]);
+        all
+    };
+    let total: usize = counts.iter().map(|&c| c as usize).sum();
+    let mut verdict = [0.0f64; 2]; // [pulled off?, relative residual]
+    if world.rank() == 0 {
+        let mut all = vec![0.0; total];
+        let displs: Vec<i32> = counts
+            .iter()
+            .scan(0i32, |acc, &c| {
+                let s = *acc;
+                *acc += c;
+                Some(s)
+            })
+            .collect();
+        {
+            let mut part = mpi::datatype::PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
+            root.gather_varcount_into_root(&cols[..], &mut part);
+        }
+        let n = total / k;
+        let a = DMatrix::from_column_slice(k, n, &all);
+        let bv = nalgebra::DVector::from_column_slice(&b);
+        let bn = bv.norm();
+        if bn > 0.0 {
+            let x = nnls(&a, &bv);
+            let res = (&a * &x - &bv).norm() / bn;
+            verdict = [if res > 1e-6 { 1.0 } else { 0.0 }, res];
+        }
+    } else {
+        root.gather_varcount_into(&cols[..]);
+    }
+    root.broadcast_into(&mut verdict[..]);
+    if verdict[0] > 0.0 {
+        return Err(Error::IllPosed(format!(
+            "the loads pull the body off the obstacle: along the motions that only the contact holds, no contact pressure (which can only push) balances them (relative residual {:.2}), so nothing holds the body; check the signs of the loads, the contact direction (-contact_direction points from the body toward the obstacle) and the obstacle's position",
+            verdict[1]
+        )));
+    }
+    Ok(())
+}
+
+/// Non-negative least squares `min ||A x - b||, x >= 0` (Lawson and
+/// Hanson's active-set method), for A with few rows.
+fn nnls(a: &DMatrix<f64>, b: &nalgebra::DVector<f64>) -> nalgebra::DVector<f64> {
+    let n = a.ncols();
+    let mut x = nalgebra::DVector::<f64>::zeros(n);
+    let mut passive = vec![false; n];
+    let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs())) * b.norm();
+    let tol = 1e-12 * scale.max(f64::MIN_POSITIVE);
+    let solve_passive = |passive: &[bool]| -> nalgebra::DVector<f64> {
+        let idx: Vec<usize> = (0..n).filter(|&j| passive[j]).collect();
+        let sub = a.select_columns(&idx);
+        let z = sub
+            .svd(true, true)
+            .solve(b, 1e-12)
+            .unwrap_or_else(|_| nalgebra::DVector::zeros(idx.len()));
+        let mut s = nalgebra::DVector::zeros(n);
+        for (p, &j) in idx.iter().enumerate() {
+            s[j] = z[p];
+        }
+        s
+    };
+    for _outer in 0..3 * n.max(1) {
+        let w = a.transpose() * (b - a * &x);
+        let Some(j) = (0..n)
+            .filter(|&j| !passive[j] && w[j] > tol)
+            .max_by(|&p, &q| w[p].total_cmp(&w[q]))
+        else {
+            break;
+        };
+        passive[j] = true;
+        loop {
+            let s = solve_passive(&passive);
+            if (0..n).filter(|&j| passive[j]).all(|j| s[j] > 0.0) {
+                x = s;
+                break;
+            }
+            let mut alpha = f64::INFINITY;
+            for j in (0..n).filter(|&j| passive[j] && s[j] <= 0.0) {
+                alpha = alpha.min(x[j] / (x[j] - s[j]));
+            }
+            x += (s - &x) * alpha;
+            for j in 0..n {
+                if passive[j] && x[j] <= 1e-14 * scale.max(1.0) {
+                    passive[j] = false;
+                    x[j] = 0.0;
+                }
+            }
+            if !passive.iter().any(|&p| p) {
+                break;
+            }
+        }
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nnls_finds_cone_membership() {
+        // Columns (1, 0), (1, 1), (1, -1): the cone is x >= |y|.
+        let a = DMatrix::from_row_slice(2, 3, &[1.0, 1.0, 1.0, 0.0, 1.0, -1.0]);
+        for (b, inside) in [
+            ([2.0, 1.0], true),
+            ([1.0, -1.0], true),
+            ([-1.0, 0.0], false),
+            ([1.0, 2.0], false),
+        ] {
+            let bv = nalgebra::DVector::from_column_slice(&b);
+            let x = nnls(&a, &bv);
+            assert!(x.iter().all(|&v| v >= 0.0));
+            let res = (&a * &x - &bv).norm() / bv.norm();
+            assert_eq!(res < 1e-9, inside, "b = {b:?}: residual {res}, x = {x}");
+        }
+    }
+}

@@ -1,0 +1,238 @@
+//! Ill-posed scenes are diagnosed from the operator, never answered: a rigid
+//! motion that nothing restrains ends every rank count with exit 2 and one
+//! line naming the motion, before any solve; the same bodies held by
+//! friction, or by a Dirichlet condition, converge.
+mod common;
+use common::*;
+
+/// The paper's Hertz quarter without its symmetry condition: nothing holds
+/// it along x (frictionless contact along n = -y cannot).
+fn hertz_free_x<'a>(extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec![
+        "-mesh",
+        "meshes/hertz_442.msh",
+        "-E",
+        "2000",
+        "-nu",
+        "0.3",
+        "-traction_top",
+        "0,-100",
+        "-contact_surface",
+        "contact",
+        "-contact_direction",
+        "0,-1",
+        "-obstacle",
+        "plane",
+        "-obstacle_point",
+        "0,0",
+    ];
+    v.extend_from_slice(extra);
+    v
+}
+
+/// A generated block pressed by a traction on its top onto a ball: no
+/// Dirichlet condition at all.
+fn block_on_ball<'a>(extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec![
+        "-mesh_generate",
+        "block3d",
+        "-mesh_h",
+        "0.25",
+        "-E",
+        "1e6",
+        "-nu",
+        "0.3",
+        "-traction_top",
+        "0,0,-1e4",
+        "-contact_surface",
+        "bottom",
+        "-contact_direction",
+        "0,0,-1",
+        "-obstacle",
+        "ball",
+        "-obstacle_center",
+        "-0.1,0.2,-1",
+        "-obstacle_radius",
+        "0.5",
+    ];
+    v.extend_from_slice(extra);
+    v
+}
+
+fn expect_free(name: &str, ranks: usize, args: &[&str], words: &[&str]) {
+    let run = mpirun(ranks, args);
+    assert_eq!(
+        run.status,
+        Some(2),
+        "{name} on {ranks} ranks: stdout:\n{}\nstderr:\n{}",
+        run.stdout,
+        run.stderr
+    );
+    let lines: Vec<&str> = run
+        .stderr
+        .lines()
+        .filter(|l| l.starts_with("error:"))
+        .collect();
+    assert_eq!(lines.len(), 1, "{name}: one message, once:\n{}", run.stderr);
+    for w in words {
+        assert!(lines[0].contains(w), "{name}: '{w}' not in: {}", lines[0]);
+    }
+    assert!(
+        !run.stdout.contains("iterations"),
+        "{name}: decided before any iteration:\n{}",
+        run.stdout
+    );
+}
+
+#[test]
+fn frictionless_body_free_along_x_is_named() {
+    for ranks in [1, 2] {
+        for extra in [&[][..], &["-ubr_anderson", "0", "-ubr_stop", "paper"][..]] {
+            expect_free(
+                "hertz without ux=0",
+                ranks,
+                &hertz_free_x(extra),
+                &[
+                    "the body is free to translate along x",
+                    "frictionless contact cannot hold it",
+                    "add a Dirichlet condition or friction",
+                ],
+            );
+        }
+    }
+    // The comparators meet the same singular operator.
+    expect_free(
+        "hertz without ux=0, SSN-C",
+        1,
+        &hertz_free_x(&["-contact_algorithm", "ssn"]),
+        &["free to translate along x"],
+    );
+}
+
+#[test]
+fn traction_only_block_on_a_ball_is_named() {
+    for ranks in [1, 2] {
+        expect_free(
+            "block on a ball",
+            ranks,
+            &block_on_ball(&[]),
+            &[
+                "free to translate along x, to translate along y and to rotate about z",
+                "frictionless contact cannot hold it",
+            ],
+        );
+    }
+}
+
+/// With Coulomb friction the same scenes are well posed: friction holds the
+/// tangential motions, and the vertical loads need no friction force.
+#[test]
+fn friction_holds_the_same_bodies() {
+    for (name, args, ranks) in [
+        (
+            "hertz free x, Coulomb",
+            hertz_free_x(&["-friction", "coulomb", "-friction_coefficient", "0.3"]),
+            2,
+        ),
+        (
+            "block on a ball, Coulomb",
+            block_on_ball(&["-friction", "coulomb", "-friction_coefficient", "0.3"]),
+            1,
+        ),
+    ] {
+        let (run, rep, rows) = solve_rows(name, ranks, &args);
+        assert_eq!(rep["converged"], true, "{name}: {}", run.stdout);
+        let load = if name.starts_with("hertz") {
+            800.0
+        } else {
+            2e4
+        };
+        let force = num(&rep, "contact_force");
+        assert!(
+            (force - load).abs() < 1e-6 * load,
+            "{name}: contact force {force} for the load {load}"
+        );
+        // No tangential load: no net friction force.
+        let tf = rep["tangential_force"].as_array().unwrap();
+        for t in tf {
+            let t = t.as_f64().unwrap();
+            assert!(t.abs() <= 1e-6 * load, "{name}: tangential force {t}");
+        }
+        assert!(!rows.is_empty());
+    }
+}
+
+/// Two disconnected parts, one clamped, the other resting on the obstacle
+/// under a traction: the free part is named by where it is.
+#[test]
+fn disconnected_free_part_is_named() {
+    let dir = scratch("two-parts");
+    let mesh = dir.join("two.msh");
+    std::fs::write(
+        &mesh,
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n4\n1 1 \"fixed\"\n1 2 \"contact\"\n1 3 \"top\"\n2 4 \"body\"\n$EndPhysicalNames\n\
+$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 2 0 0\n6 3 0 0\n7 3 1 0\n8 2 1 0\n$EndNodes\n\
+$Elements\n7\n1 1 2 1 1 1 2\n2 1 2 2 2 5 6\n3 1 2 3 3 7 8\n4 2 2 4 4 1 2 3\n5 2 2 4 4 1 3 4\n6 2 2 4 4 5 6 7\n7 2 2 4 4 5 7 8\n$EndElements\n",
+    )
+    .unwrap();
+    let m = mesh.to_str().unwrap();
+    let args = [
+        "-mesh",
+        m,
+        "-E",
+        "100",
+        "-nu",
+        "0.3",
+        "-dirichlet_fixed",
+        "ux=0,uy=0",
+        "-traction_top",
+        "0,-1",
+        "-contact_surface",
+        "contact",
+        "-contact_direction",
+        "0,-1",
+        "-obstacle",
+        "plane",
+        "-obstacle_point",
+        "0,0",
+    ];
+    for ranks in [1, 2] {
+        expect_free(
+            "two parts",
+            ranks,
+            &args,
+            &[
+                "around (2.5000, 0.5000) (4 nodes, one of 2 disconnected parts) is free to translate along x",
+            ],
+        );
+    }
+    // Held along x too: well posed.
+    let mut held = args.to_vec();
+    held.extend_from_slice(&["-dirichlet_top", "ux=0"]);
+    let (run, rep, _) = solve_rows("two parts held", 2, &held);
+    assert_eq!(rep["converged"], true, "{}", run.stdout);
+}
+
+/// A body held along n by contact alone and pulled away from the obstacle
+/// has no equilibrium: a clear error (exit 2) instead of 10000 iterations.
+#[test]
+fn body_pulled_off_the_obstacle_is_named() {
+    let run = mpirun(
+        1,
+        &[
+            "-options_file",
+            "options/hertz",
+            "-mesh",
+            "meshes/hertz_442.msh",
+            "-traction_top",
+            "0,100",
+        ],
+    );
+    assert_eq!(run.status, Some(2), "{}\n{}", run.stdout, run.stderr);
+    assert!(
+        run.stderr
+            .contains("the loads pull the body off the obstacle"),
+        "{}",
+        run.stderr
+    );
+}
