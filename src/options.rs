@@ -69,10 +69,15 @@ pub fn print_help() {
             println!("  {name:<40} {text} [{default}]");
         }
     }
+    println!("\nDefaults: the UBR map Anderson-accelerated, r chosen from the spectrum of the contact compliance,");
+    println!(
+        "and a stop that bounds the error of the contact stresses by -ubr_lambda_rtol (1e-3)."
+    );
+    println!("The paper's algorithm as it runs it: -ubr_anderson 0 -ubr_stop paper -ubr_r R (options/*-paper).");
     println!("\nLinear solver: the unprefixed PETSc options (-ksp_type, -pc_type, -pc_factor_mat_solver_type, ...);");
     println!("default -ksp_type preonly -pc_type cholesky -pc_factor_mat_solver_type mumps, factorized once.");
-    println!("Profiling: -log_view (stages Mesh, Partition, Assembly, Factorization, Iterations, Output).");
-    println!("Exit status: 0 converged, 2 bad input, 3 not converged.");
+    println!("Profiling: -log_view (stages Mesh, Partition, Assembly, Factorization, RChoice, Iterations, Output).");
+    println!("Exit status: 0 converged, 2 bad input or an ill-posed scene (a rigid motion nothing holds), 3 not converged.");
 }
 
 #[derive(Clone, Debug, PartialEq)]
