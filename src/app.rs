@@ -176,7 +176,14 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     let choice = if ubr_run {
         let _guard = stages.r_choice.push()?;
         let solves = problem.lin.solves;
-        let choice = penalty::choose(world, &mut problem, &restraint, &local, auto_r)?;
+        let choice = penalty::choose(
+            world,
+            &mut problem,
+            &restraint,
+            &local,
+            auto_r,
+            settings.ubr.monitor,
+        )?;
         let _ = solves;
         Some(choice)
     } else {

@@ -39,6 +39,8 @@ use nalgebra::{DMatrix, SymmetricEigen};
 /// Lanczos steps at most, and at least before the estimate may be final.
 const MAX_STEPS: usize = 20;
 const MIN_STEPS: usize = 6;
+/// Steps after which a full back-end may stop on a rough estimate.
+const ROUGH_STEPS: usize = 4;
 /// The estimate is final when it moved by less than this twice in a row.
 const SETTLED: f64 = 0.02;
 /// A full back-end refactorizes when the estimate is this far from r0.
@@ -228,8 +230,10 @@ pub fn spectrum<C: Communicator>(
     problem: &mut Problem,
     restraint: &Restraint,
     mesh: &LocalMesh,
+    monitor: bool,
 ) -> Result<Option<(f64, f64, usize)>, Error> {
     let r0 = problem.r();
+    let decide_only = !problem.lin.is_condensed();
     let d = problem.dim;
     let work = problem.lin.rhs0.duplicate()?;
     let Problem {
@@ -333,9 +337,23 @@ pub fn spectrum<C: Communicator>(
                     0
                 };
             }
+            if monitor && world.rank() == 0 {
+                println!(
+                    "  r choice  Lanczos step {:2}: sigma in [{lo:.4e}, {hi:.4e}], r = {r:.4e} (trial {r0:.4e})",
+                    step + 1
+                );
+            }
+            // A full back-end only decides whether to refactorize: an estimate
+            // settled to 10% and 30% away from the window's edges decides it.
+            let ratio = (r / r0).ln().abs();
+            let clear = (ratio - WINDOW.ln()).abs() > 1.3f64.ln();
+            let rough = last.is_some_and(|prev| (r - prev).abs() <= 0.1 * r);
             last = Some(r);
             result = Some((lo, hi, step + 1));
             if step + 1 >= MIN_STEPS && settled >= 2 {
+                break;
+            }
+            if decide_only && clear && rough && step + 1 >= ROUGH_STEPS {
                 break;
             }
         }
@@ -356,6 +374,7 @@ pub fn choose<C: Communicator>(
     restraint: &Restraint,
     mesh: &LocalMesh,
     auto: bool,
+    monitor: bool,
 ) -> Result<Choice, Error> {
     let r0 = problem.r();
     let mut choice = Choice {
@@ -371,7 +390,7 @@ pub fn choose<C: Communicator>(
     if !auto {
         return Ok(choice);
     }
-    let Some((lo, hi, steps)) = spectrum(world, problem, restraint, mesh)? else {
+    let Some((lo, hi, steps)) = spectrum(world, problem, restraint, mesh, monitor)? else {
         return Ok(choice);
     };
     let estimate = 1.0 / (lo * hi).sqrt();
