@@ -1,7 +1,7 @@
 //! `ubr-petsc`: options -> scene -> run -> report. See `app::run`.
 
 use mpi::traits::*;
-use ubr_petsc::{app, error::Error, petsc::Petsc};
+use ubr_petsc::{app, petsc::Petsc};
 
 fn main() {
     let Some(universe) = mpi::initialize() else {
@@ -26,14 +26,7 @@ fn main() {
         let code = match app::run(&world) {
             Ok(()) => 0,
             Err(e) => {
-                let collective = matches!(
-                    e,
-                    Error::BadInput(_)
-                        | Error::IllPosed(_)
-                        | Error::NotConverged(_)
-                        | Error::LinearSolver(_)
-                );
-                if !collective {
+                if !e.is_collective() {
                     // Possibly seen by this rank only: end every rank now.
                     eprintln!("[rank {rank}] {e}");
                     world.abort(e.exit_code());

@@ -5,7 +5,11 @@
 use crate::error::{bad, Error};
 use crate::fem::facet_measure;
 use crate::mesh::distribute::LocalMesh;
-use crate::options::{ContactSettings, Obstacle};
+use crate::options::ContactSettings;
+pub use obstacle::{gap, Obstacle};
+
+pub mod hertz;
+pub mod obstacle;
 
 /// Candidates owned by this rank.
 #[derive(Clone, Debug, Default)]
@@ -29,30 +33,25 @@ impl ContactSet {
         self.node.is_empty()
     }
 
-    /// Builds the owned candidates of `settings.surface`. The caller checks the
-    /// global candidate count (a surface with no candidate is bad input).
+    /// Builds the owned candidates of the surfaces `settings.surfaces` (a
+    /// facet in two of them counts once). The caller checks the global
+    /// candidate count (a surface with no candidate is bad input).
     pub fn build(mesh: &LocalMesh, settings: &ContactSettings) -> Result<ContactSet, Error> {
         let d = mesh.dim;
-        let Some(group) = mesh.group(&settings.surface) else {
-            return bad(format!(
-                "option -contact_surface: the mesh has no physical group '{}' (it has: {})",
-                settings.surface,
-                mesh.group_names()
-            ));
-        };
+        let mut groups = Vec::with_capacity(settings.surfaces.len());
+        for name in &settings.surfaces {
+            groups.push(mesh.group_for(
+                "-contact_surface",
+                name,
+                d - 1..=d - 1,
+                "a contact surface",
+            )?);
+        }
         if settings.direction.len() != d {
             return bad(format!(
                 "option -contact_direction: {} components given, the mesh is {}D",
                 settings.direction.len(),
                 d
-            ));
-        }
-        if group.dim + 1 != d {
-            return bad(format!(
-                "option -contact_surface: group '{}' has dimension {}, a contact surface needs dimension {}",
-                settings.surface,
-                group.dim,
-                d - 1
             ));
         }
         match &settings.obstacle {
@@ -78,14 +77,22 @@ impl ContactSet {
         // Weights of every owned node of the surface.
         let mut weight = vec![0.0; mesh.owned_count];
         let mut on_surface = vec![false; mesh.owned_count];
-        let m = group.nodes_per_element();
-        for e in group.conn.chunks(m) {
-            let pts: Vec<&[f64]> = e.iter().map(|&v| mesh.x(v)).collect();
-            let share = facet_measure(&pts) / m as f64;
-            for &v in e {
-                if mesh.is_owned(v) {
-                    weight[v] += share;
-                    on_surface[v] = true;
+        let mut seen = std::collections::HashSet::new();
+        for group in groups {
+            let m = group.nodes_per_element();
+            for e in group.conn.chunks(m) {
+                let mut key = e.to_vec();
+                key.sort_unstable();
+                if !seen.insert(key) {
+                    continue;
+                }
+                let pts: Vec<&[f64]> = e.iter().map(|&v| mesh.x(v)).collect();
+                let share = facet_measure(&pts) / m as f64;
+                for &v in e {
+                    if mesh.is_owned(v) {
+                        weight[v] += share;
+                        on_surface[v] = true;
+                    }
                 }
             }
         }
@@ -106,39 +113,6 @@ impl ContactSet {
         }
         Ok(set)
     }
-}
-
-/// Gap from `x` along `n` to the obstacle, or `None` when the line `x + t n`
-/// misses it (ball only; DESIGN.md: candidate only if it meets the sphere at
-/// two points and t2 > 0, then g = t1). A half-ball on its floor is the union
-/// of the ball and the half-space beyond the plane through the centre: the
-/// line enters the ball first where it meets it (t1 <= the plane's t), and
-/// the floor elsewhere, so every node is a candidate.
-pub fn gap(x: &[f64], n: &[f64], obstacle: &Obstacle) -> Option<f64> {
-    let along = |p: &[f64]| -> f64 { p.iter().zip(x).zip(n).map(|((p, x), n)| (p - x) * n).sum() };
-    match obstacle {
-        Obstacle::Plane { point } => Some(along(point)),
-        Obstacle::Ball { center, radius } => ball_entry(x, n, center, *radius),
-        Obstacle::HalfBall { center, radius } => {
-            Some(ball_entry(x, n, center, *radius).unwrap_or_else(|| along(center)))
-        }
-    }
-}
-
-/// Where the line `x + t n` enters the ball: `t1` when it meets the sphere at
-/// `t1 < t2` with `t2 > 0`, else `None`.
-fn ball_entry(x: &[f64], n: &[f64], center: &[f64], radius: f64) -> Option<f64> {
-    // |x + t n - c|^2 = R^2, |n| = 1: t^2 + 2 t (x-c).n + |x-c|^2 - R^2 = 0.
-    let dc: Vec<f64> = x.iter().zip(center).map(|(x, c)| x - c).collect();
-    let b = dc.iter().zip(n).map(|(a, b)| a * b).sum::<f64>();
-    let c = dc.iter().map(|a| a * a).sum::<f64>() - radius * radius;
-    let disc = b * b - c;
-    if disc <= 0.0 {
-        return None;
-    }
-    let s = disc.sqrt();
-    let (t1, t2) = (-b - s, -b + s);
-    (t2 > 0.0).then_some(t1)
 }
 
 /// The contact projection (4.15) with the multiplier update (4.4) at one node:
@@ -309,50 +283,5 @@ mod tests {
         let mut l2 = [0.0; 2];
         project_tangential(&p1, &l1, 0.5, r, r, &mut p2, &mut l2);
         assert!((p2[0] - p1[0]).abs() < 1e-14 && (l2[1] - l1[1]).abs() < 1e-14);
-    }
-
-    #[test]
-    fn ball_gap() {
-        let ball = Obstacle::Ball {
-            center: vec![0.0, -1.0],
-            radius: 0.5,
-        };
-        // Straight above the top of the circle (y=-0.5) by 0.5.
-        let g = gap(&[0.0, 0.0], &[0.0, -1.0], &ball).unwrap();
-        assert!((g - 0.5).abs() < 1e-14);
-        assert!(gap(&[0.6, 0.0], &[0.0, -1.0], &ball).is_none());
-        // Below the ball's centre line but t2 < 0: moving away from it.
-        assert!(gap(&[0.0, -2.0], &[0.0, -1.0], &ball).is_none());
-        let plane = Obstacle::Plane {
-            point: vec![0.0, 0.0],
-        };
-        assert!((gap(&[3.0, 0.25], &[0.0, -1.0], &plane).unwrap() - 0.25).abs() < 1e-15);
-    }
-
-    #[test]
-    fn half_ball_gap() {
-        // The paper's 3D obstacle: centre (-0.3, 0, -1), radius 0.5, n = -z.
-        let hb = Obstacle::HalfBall {
-            center: vec![-0.3, 0.0, -1.0],
-            radius: 0.5,
-        };
-        let n = [0.0, 0.0, -1.0];
-        // Above the pole: the same gap as the ball (touching at z = -0.5).
-        assert!(gap(&[-0.3, 0.0, -0.5], &n, &hb).unwrap().abs() < 1e-15);
-        let x = [-0.1, 0.2, -0.5];
-        let ball = Obstacle::Ball {
-            center: vec![-0.3, 0.0, -1.0],
-            radius: 0.5,
-        };
-        assert_eq!(gap(&x, &n, &hb), gap(&x, &n, &ball));
-        // Beside the ball: the floor z = -1, 0.5 below the bottom face,
-        // where the ball alone has no candidate.
-        assert!(gap(&[0.5, 0.9, -0.5], &n, &ball).is_none());
-        assert!((gap(&[0.5, 0.9, -0.5], &n, &hb).unwrap() - 0.5).abs() < 1e-15);
-        // Over the ball the entry is never beyond the floor.
-        for i in 0..=20 {
-            let x = [-0.8 + 0.05 * i as f64, 0.1, -0.5];
-            assert!(gap(&x, &n, &hb).unwrap() <= 0.5 + 1e-15);
-        }
     }
 }

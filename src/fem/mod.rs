@@ -4,6 +4,7 @@
 //! Global degrees of freedom are node-major: dof `dim * node + component`, with
 //! the renumbered (rank-contiguous) global node numbers of `LocalMesh`.
 
+pub mod loads;
 pub mod stress;
 
 use crate::error::{bad, Error};
@@ -331,29 +332,13 @@ pub fn traction_load(mesh: &LocalMesh, tractions: &[TractionBc]) -> Result<Vec<f
     let d = mesh.dim;
     let mut f = vec![0.0; mesh.owned_count * d];
     for t in tractions {
-        let Some(group) = mesh.group(&t.group) else {
-            return bad(format!(
-                "option -traction_{}: the mesh has no physical group '{}' (it has: {})",
-                t.group,
-                t.group,
-                mesh.group_names()
-            ));
-        };
+        let option = format!("-traction_{}", t.group);
+        let group = mesh.group_for(&option, &t.group, d - 1..=d - 1, "a traction")?;
         if t.traction.len() != d {
             return bad(format!(
-                "option -traction_{}: {} components given, the mesh is {}D",
-                t.group,
+                "option {option}: {} components given, the mesh is {}D",
                 t.traction.len(),
                 d
-            ));
-        }
-        if group.dim + 1 != d {
-            return bad(format!(
-                "option -traction_{}: group '{}' has dimension {}, a traction needs a boundary of dimension {}",
-                t.group,
-                t.group,
-                group.dim,
-                d - 1
             ));
         }
         let m = group.nodes_per_element();
@@ -377,14 +362,8 @@ pub fn dirichlet_dofs(mesh: &LocalMesh, bcs: &[DirichletBc]) -> Result<Vec<(usiz
     let d = mesh.dim;
     let mut out = Vec::new();
     for bc in bcs {
-        let Some(group) = mesh.group(&bc.group) else {
-            return bad(format!(
-                "option -dirichlet_{}: the mesh has no physical group '{}' (it has: {})",
-                bc.group,
-                bc.group,
-                mesh.group_names()
-            ));
-        };
+        let option = format!("-dirichlet_{}", bc.group);
+        let group = mesh.group_for(&option, &bc.group, 0..=d - 1, "a Dirichlet condition")?;
         for &(comp, value) in &bc.comps {
             if comp >= d {
                 return bad(format!(

@@ -47,10 +47,59 @@ impl LocalMesh {
     pub fn group(&self, name: &str) -> Option<&Group> {
         self.groups.iter().find(|g| g.name == name)
     }
-    /// "a, b, c": the names of the mesh's groups, for error messages.
+    /// "a (1D), b (2D)": the mesh's groups and their dimensions, for messages.
     pub fn group_names(&self) -> String {
-        let names: Vec<&str> = self.groups.iter().map(|g| g.name.as_str()).collect();
+        let names: Vec<String> = self
+            .groups
+            .iter()
+            .map(|g| format!("{} ({}D)", g.name, g.dim))
+            .collect();
         names.join(", ")
+    }
+
+    /// The group an option names, of a dimension in `dims`; an error naming
+    /// the option otherwise: the groups the mesh has, how Gmsh adds them when
+    /// it has none, the group's dimension when it is of another.
+    pub fn group_for(
+        &self,
+        option: &str,
+        name: &str,
+        dims: std::ops::RangeInclusive<usize>,
+        what: &str,
+    ) -> Result<&Group, Error> {
+        let Some(group) = self.group(name) else {
+            if self.groups.is_empty() {
+                let (kind, example) = if self.dim == 2 {
+                    ("Physical Curve", "Physical Curve(\"contact\") = {1, 2};")
+                } else {
+                    ("Physical Surface", "Physical Surface(\"contact\") = {1};")
+                };
+                return Err(Error::BadInput(format!(
+                    "option {option}: the mesh has no physical groups, and options name them: in Gmsh, add a {kind} (or Physical Point, Curve) for each boundary part before meshing, e.g. {example} in the .geo file"
+                )));
+            }
+            return Err(Error::BadInput(format!(
+                "option {option}: the mesh has no physical group '{name}' (it has: {})",
+                self.group_names()
+            )));
+        };
+        if !dims.contains(&group.dim) {
+            let held = if group.dim == self.dim {
+                format!(" (it holds the body's cells, the mesh is {}D)", self.dim)
+            } else {
+                String::new()
+            };
+            let want = if dims.start() == dims.end() {
+                format!("dimension {}", dims.start())
+            } else {
+                format!("dimension {} to {}", dims.start(), dims.end())
+            };
+            return Err(Error::BadInput(format!(
+                "option {option}: group '{name}' has dimension {}{held}; {what} needs a group of {want}",
+                group.dim
+            )));
+        }
+        Ok(group)
     }
     pub fn x(&self, local: usize) -> &[f64] {
         &self.coords[local * self.dim..(local + 1) * self.dim]
@@ -405,7 +454,7 @@ pub fn distribute<C: Communicator>(
             Err(e) => {
                 let mut status = [2u64];
                 let mut msg = e.to_string().into_bytes();
-                if !matches!(e, Error::BadInput(_)) {
+                if e.exit_code() != 2 {
                     status[0] = 1;
                 }
                 let mut len = [msg.len() as u64];

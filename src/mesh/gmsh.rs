@@ -19,7 +19,8 @@
 //! The mesh is 3D when there are tetrahedra, else 2D when there are
 //! triangles (the z coordinate is dropped: the triangles must lie in a plane
 //! z = constant), else an error. [`Mesh::cells`] holds every element of the
-//! top dimension, with or without a physical group. Every physical group of lower dimension becomes a [`Group`], named
+//! top dimension, with or without a physical group. Every physical group of lower dimension becomes a [`Group`] (one of the
+//! top dimension becomes a [`Group`] without elements, its name kept for messages), named
 //! from `$PhysicalNames` (or the decimal tag when unnamed); groups come in the
 //! order in which their first element appears, followed by named groups that
 //! have no elements (in `$PhysicalNames` order). Lower-dimensional elements
@@ -1150,20 +1151,23 @@ impl<'a> Reader<'a> {
         };
         let mut groups = Vec::new();
         for g in self.groups {
-            if g.dim < dim {
+            if g.dim <= dim {
                 let name = match self.names.get(&(g.dim, g.tag)) {
                     Some(n) => n.clone(),
                     None => g.tag.to_string(),
                 };
+                // A group of cells is kept by its name only, so that an
+                // option naming it is told its dimension.
+                let conn = if g.dim < dim { g.conn } else { Vec::new() };
                 groups.push(Group {
                     name,
                     dim: g.dim,
-                    conn: g.conn,
+                    conn,
                 });
             }
         }
         for key in &self.name_order {
-            if key.0 < dim && !self.group_index.contains_key(key) {
+            if key.0 <= dim && !self.group_index.contains_key(key) {
                 if let Some(name) = self.names.get(key) {
                     groups.push(Group {
                         name: name.clone(),
@@ -1319,6 +1323,8 @@ $EndElements
                 group("bottom", 1, &[0, 1]),
                 group("top", 1, &[2, 3]),
                 group("3", 1, &[2, 3]),
+                // The cells' group, by its name only.
+                group("body", 2, &[]),
             ],
         }
     }
@@ -1408,6 +1414,7 @@ $EndElements
             groups: vec![
                 group("41", 1, &[1, 2]),
                 group("base", 2, &[0, 2, 1]),
+                group("solid", 3, &[]),
                 group("ghost", 1, &[]),
             ],
         }
@@ -1679,8 +1686,8 @@ $EndElements
         assert!(m.signed_measure(0) > 0.0 && m.signed_measure(1) > 0.0);
         assert_eq!(m.group("top").map(Group::len), Some(1));
         assert!(
-            m.group("body").is_none(),
-            "2D groups are not boundary groups"
+            m.group("body").is_some_and(|g| g.dim == 2 && g.is_empty()),
+            "a 2D group is kept by its name only"
         );
     }
 
@@ -1748,9 +1755,10 @@ $EndElements
             .replace("3 1 2 1 1 1 2", "3 1 2 0 1 1 2");
         let m = ok(s.as_bytes());
         assert_eq!(m.cells, vec![0, 1, 2, 0, 2, 3]);
-        // "bottom" is named but has no elements: kept empty, after the others.
+        // "bottom" is named but has no elements: kept empty, after the others
+        // (the cells' group "body" too, by its name).
         assert_eq!(m.groups.last(), Some(&group("bottom", 1, &[])));
-        assert_eq!(m.groups.len(), 5);
+        assert_eq!(m.groups.len(), 6);
     }
 
     #[test]

@@ -49,7 +49,9 @@ pub struct Mesh {
     pub cells: Vec<usize>,
     /// The cell's element tag in the input file (1-based numbering for generated meshes).
     pub cell_tags: Vec<u64>,
-    /// Physical groups of dimension < `dim`.
+    /// Physical groups of dimension < `dim`, and those of dimension `dim`
+    /// by name only (no elements: the cells are the body), so that an
+    /// option naming one is told its dimension.
     pub groups: Vec<Group>,
 }
 
@@ -65,6 +67,12 @@ impl fmt::Display for MeshError {
 }
 
 impl std::error::Error for MeshError {}
+
+impl From<MeshError> for crate::error::Error {
+    fn from(e: MeshError) -> Self {
+        crate::error::Error::Mesh(e.0)
+    }
+}
 
 impl PartialEq for Mesh {
     fn eq(&self, o: &Mesh) -> bool {

@@ -180,11 +180,18 @@ pub mod options {
         Ok(set == sys::PETSC_TRUE)
     }
 
+    thread_local! {
+        /// The options the program set itself ([`set_default`]): not the
+        /// user's, so never reported as unused.
+        static SET_BY_PROGRAM: RefCell<Vec<String>> = const { RefCell::new(Vec::new()) };
+    }
+
     /// Sets `-name value` unless the user already set `-name`.
     pub fn set_default(name: &str, value: &str) -> Result<(), Error> {
         if has_name(name)? {
             return Ok(());
         }
+        SET_BY_PROGRAM.with(|s| s.borrow_mut().push(name.to_string()));
         let key = cname(name);
         let val = cname(value);
         unsafe {
@@ -194,6 +201,41 @@ pub mod options {
                 val.as_ptr(),
             ))
         }
+    }
+
+    /// The options of the database that nothing has read so far (names with
+    /// their leading `-`), leaving out those the program set itself.
+    pub fn unused() -> Result<Vec<String>, Error> {
+        let mut n: sys::PetscInt = 0;
+        let mut names: *mut *mut c_char = std::ptr::null_mut();
+        let mut values: *mut *mut c_char = std::ptr::null_mut();
+        unsafe {
+            check(sys::PetscOptionsLeftGet(
+                std::ptr::null_mut(),
+                &mut n,
+                &mut names,
+                &mut values,
+            ))?;
+        }
+        let mut out = Vec::with_capacity(n as usize);
+        for i in 0..n as usize {
+            let p = unsafe { *names.add(i) };
+            if !p.is_null() {
+                let name = unsafe { CStr::from_ptr(p).to_string_lossy().into_owned() };
+                out.push(format!("-{}", name.trim_start_matches('-')));
+            }
+        }
+        unsafe {
+            check(sys::PetscOptionsLeftRestore(
+                std::ptr::null_mut(),
+                &mut n,
+                &mut names,
+                &mut values,
+            ))?;
+        }
+        let ours = SET_BY_PROGRAM.with(|s| s.borrow().clone());
+        out.retain(|name| !ours.contains(name));
+        Ok(out)
     }
 
     /// The names of every option in the database (with their leading `-`).

@@ -5,14 +5,24 @@
 //! by the node's tag in the input mesh. Files are written atomically
 //! (temporary file in the same directory, then rename).
 
+pub mod files;
+pub mod json;
 pub mod plot;
+pub mod summary;
 pub mod vtk;
 
-use crate::error::Error;
-use crate::options::HertzReference;
+use crate::contact::hertz;
+use crate::mesh::distribute::LocalMesh;
+use crate::options::{Friction, HertzReference, MeshSource, Settings};
+use crate::solver::checks::{Diagnostics, Forces};
+use crate::solver::outcome::Solved;
+use crate::solver::surface::UbrState;
+use crate::solver::{penalty, Problem};
 use mpi::traits::*;
 use std::fmt::Write as _;
 use std::io::Write as _;
+use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Number of f64 values per contact row on the wire.
 pub const ROW_LEN: usize = 16;
@@ -66,6 +76,152 @@ impl ContactRow {
     }
 }
 
+/// The owned candidates as rows; `bound` is the friction bound s per
+/// candidate (empty without friction).
+pub fn contact_rows(
+    local: &LocalMesh,
+    problem: &Problem,
+    state: &UbrState,
+    bound: &[f64],
+) -> Vec<ContactRow> {
+    let d = local.dim;
+    let cs = &problem.contact;
+    let sf = &state.surface;
+    let friction = problem.tangential;
+    (0..cs.len())
+        .map(|i| {
+            let v = cs.node[i];
+            let mut x = [0.0; 3];
+            x[..d].copy_from_slice(local.x(v));
+            let mut ut = [0.0; 3];
+            ut[..d].copy_from_slice(&sf.ut[i * d..(i + 1) * d]);
+            let mut lt = [0.0; 3];
+            if friction {
+                lt[..d].copy_from_slice(&sf.stress_t[i * d..(i + 1) * d]);
+            }
+            let status = match (sf.in_contact[i], friction, sf.slip[i]) {
+                (false, _, _) => 0,
+                (true, false, _) => 1,
+                (true, true, false) => 2,
+                (true, true, true) => 3,
+            };
+            ContactRow {
+                node: local.node_tag[v],
+                x,
+                weight: cs.w[i],
+                gap: cs.g[i],
+                un: sf.un[i],
+                ut,
+                // + 0.0 turns -0 into 0 in the CSV
+                lambda_n: sf.stress_n[i] + 0.0,
+                lambda_t: lt.map(|v| v + 0.0),
+                status,
+                bound: bound.get(i).copied().unwrap_or(0.0),
+            }
+        })
+        .collect()
+}
+
+/// Wall-clock seconds of each phase (rank 0's).
+#[derive(Clone, Debug, Default)]
+pub struct Times {
+    pub mesh: f64,
+    pub partition: f64,
+    pub assembly: f64,
+    pub factorization: f64,
+    pub r_choice: f64,
+    pub iterations: f64,
+    pub total: f64,
+}
+
+/// Sums over the gathered rows (rank 0).
+#[derive(Clone, Debug, Default)]
+pub struct Totals {
+    /// `sum w lambda_n`, `sum w lambda_t`.
+    pub force: f64,
+    pub tangential_force: Vec<f64>,
+    pub in_contact: usize,
+    pub stick: usize,
+    pub slip: usize,
+    pub peak_pressure: f64,
+}
+
+impl Totals {
+    pub fn of(rows: &[ContactRow], dim: usize) -> Totals {
+        let mut t = Totals {
+            tangential_force: vec![0.0; dim],
+            ..Default::default()
+        };
+        for r in rows {
+            t.force += r.weight * r.lambda_n;
+            for (c, f) in t.tangential_force.iter_mut().enumerate() {
+                *f += r.weight * r.lambda_t[c];
+            }
+            t.in_contact += usize::from(r.status != 0);
+            t.stick += usize::from(r.status == 2);
+            t.slip += usize::from(r.status == 3);
+            t.peak_pressure = t.peak_pressure.max(r.lambda_n);
+        }
+        t
+    }
+}
+
+/// Everything the summary and the report show (on rank 0).
+pub struct Results<'a> {
+    pub settings: &'a Settings,
+    pub local: &'a LocalMesh,
+    pub ranks: usize,
+    pub candidates: usize,
+    pub problem: &'a Problem,
+    pub choice: Option<&'a penalty::Choice>,
+    pub solved: &'a Solved,
+    pub state: &'a UbrState,
+    pub diag: &'a Diagnostics,
+    pub forces: &'a Forces,
+    /// Every candidate, gathered, sorted by node tag.
+    pub rows: &'a [ContactRow],
+    pub totals: Totals,
+    pub hertz: Option<HertzComparison>,
+    pub times: Times,
+    /// Peak memory (MiB): rank 0, the largest rank, all ranks.
+    pub memory: [f64; 3],
+    /// The warnings of the run (also printed on stderr).
+    pub warnings: &'a [String],
+}
+
+impl Results<'_> {
+    /// The friction law's name in the summary.
+    pub fn friction_name(&self) -> &'static str {
+        match self.settings.friction {
+            Friction::None => "frictionless",
+            Friction::Tresca => "Tresca friction",
+            Friction::Coulomb => "Coulomb friction",
+        }
+    }
+}
+
+/// This process's peak resident memory in MiB (VmHWM from /proc/self/status; 0 if unknown).
+pub fn peak_memory_mb() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<f64>().ok())
+        })
+        .map(|kb| kb / 1024.0)
+        .unwrap_or(0.0)
+}
+
+/// The mesh as the summary names it.
+pub fn mesh_label(source: &MeshSource) -> String {
+    match source {
+        MeshSource::File(p) => p.clone(),
+        MeshSource::Generate { name, h } => format!("generated {name}, h = {h}"),
+    }
+}
+
 /// Gathers every rank's rows on rank 0, sorted by node tag (empty elsewhere).
 pub fn gather_rows<C: Communicator>(world: &C, rows: &[ContactRow]) -> Vec<ContactRow> {
     let mut buf = Vec::with_capacity(rows.len() * ROW_LEN);
@@ -114,32 +270,7 @@ pub struct HertzComparison {
     pub half_width_hertz: f64,
 }
 
-/// Hertz pressure at distance `x` from the centre, and (p0, b or a).
-pub fn hertz_pressure(dim: usize, force: f64, radius: f64, e_star: f64, x: f64) -> (f64, f64, f64) {
-    use std::f64::consts::PI;
-    if dim == 2 {
-        // Cylinder on a plane: b = 2 sqrt(F R / (pi E*)), p = 2F/(pi b^2) sqrt(b^2 - x^2).
-        let b = 2.0 * (force * radius / (PI * e_star)).sqrt();
-        let p0 = 2.0 * force / (PI * b);
-        let p = if x < b {
-            2.0 * force / (PI * b * b) * (b * b - x * x).sqrt()
-        } else {
-            0.0
-        };
-        (p, p0, b)
-    } else {
-        // Sphere: a = (3FR/(4E*))^(1/3), p0 = 3F/(2 pi a^2).
-        let a = (3.0 * force * radius / (4.0 * e_star)).cbrt();
-        let p0 = 3.0 * force / (2.0 * PI * a * a);
-        let p = if x < a {
-            p0 * (1.0 - x * x / (a * a)).sqrt()
-        } else {
-            0.0
-        };
-        (p, p0, a)
-    }
-}
-
+/// The contact pressure against Hertz's, at the candidates `rows` (rank 0).
 pub fn compare_hertz(
     rows: &[ContactRow],
     dim: usize,
@@ -147,29 +278,17 @@ pub fn compare_hertz(
     e_star: f64,
     reference: &HertzReference,
 ) -> HertzComparison {
-    let center: Vec<f64> = match &reference.center {
-        Some(c) => c.clone(),
-        None => rows
-            .iter()
-            .min_by(|a, b| a.gap.total_cmp(&b.gap))
-            .map(|r| r.x[..dim].to_vec())
-            .unwrap_or(vec![0.0; dim]),
-    };
-    let dist = |r: &ContactRow| {
-        let dx: Vec<f64> = (0..dim).map(|k| r.x[k] - center[k]).collect();
-        let dn: f64 = dx.iter().zip(n).map(|(a, b)| a * b).sum();
-        dx.iter()
-            .zip(n)
-            .map(|(a, b)| (a - dn * b).powi(2))
-            .sum::<f64>()
-            .sqrt()
-    };
+    let center = hertz::center(
+        reference.center.as_deref(),
+        dim,
+        rows.iter().map(|r| (r.gap, &r.x[..])),
+    );
     let mut err2 = 0.0;
     let mut p2 = 0.0;
     let mut out = HertzComparison::default();
     for r in rows {
-        let x = dist(r);
-        let (p, p0, b) = hertz_pressure(dim, reference.force, reference.radius, e_star, x);
+        let x = hertz::distance(&r.x, &center, n);
+        let (p, p0, b) = hertz::pressure(dim, reference.force, reference.radius, e_star, x);
         err2 += r.weight * (r.lambda_n - p).powi(2);
         p2 += r.weight * p * p;
         out.peak = out.peak.max(r.lambda_n);
@@ -184,29 +303,37 @@ pub fn compare_hertz(
     out
 }
 
-/// Writes `contents` to `path` atomically: a temporary file in the same
-/// directory, then a rename. A failure names the option and the file.
-pub fn write_atomic(option: &str, path: &str, contents: &[u8]) -> Result<(), Error> {
-    let target = std::path::Path::new(path);
-    let dir = target
+/// Writes `bytes` to `path` atomically: a temporary file in the same
+/// directory, then a rename; on failure the temporary file is removed, so a
+/// reader never sees a partial file. The one writer of every output file.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(std::path::Path::new("."));
-    let name = target
-        .file_name()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
+        .unwrap_or(Path::new("."));
+    let Some(name) = path.file_name() else {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a file path",
+        ));
+    };
+    let tmp = dir.join(format!(
+        ".{}.tmp{}-{}",
+        name.to_string_lossy(),
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
     let result = (|| -> std::io::Result<()> {
         let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(contents)?;
+        f.write_all(bytes)?;
         f.sync_all()?;
-        std::fs::rename(&tmp, target)
+        std::fs::rename(&tmp, path)
     })();
-    result.map_err(|e| {
+    if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
-        Error::BadInput(format!("option {option}: cannot write '{path}': {e}"))
-    })
+    }
+    result
 }
 
 pub fn csv(rows: &[ContactRow]) -> String {
@@ -237,130 +364,21 @@ pub fn csv(rows: &[ContactRow]) -> String {
     s
 }
 
-/// A minimal JSON object writer (keys in insertion order).
-#[derive(Default)]
-pub struct Json {
-    items: Vec<(String, String)>,
-}
-
-fn json_f64(v: f64) -> String {
-    if v.is_finite() {
-        format!("{v:e}")
-    } else {
-        "null".into()
-    }
-}
-
-impl Json {
-    pub fn num(&mut self, k: &str, v: f64) -> &mut Self {
-        self.items.push((k.into(), json_f64(v)));
-        self
-    }
-    pub fn int(&mut self, k: &str, v: usize) -> &mut Self {
-        self.items.push((k.into(), v.to_string()));
-        self
-    }
-    pub fn opt(&mut self, k: &str, v: Option<f64>) -> &mut Self {
-        self.items
-            .push((k.into(), v.map(json_f64).unwrap_or_else(|| "null".into())));
-        self
-    }
-    pub fn boolean(&mut self, k: &str, v: bool) -> &mut Self {
-        self.items.push((k.into(), v.to_string()));
-        self
-    }
-    pub fn string(&mut self, k: &str, v: &str) -> &mut Self {
-        let escaped: String = v
-            .chars()
-            .flat_map(|c| match c {
-                '"' => "\\\"".chars().collect::<Vec<_>>(),
-                '\\' => "\\\\".chars().collect(),
-                c if (c as u32) < 0x20 => format!("\\u{:04x}", c as u32).chars().collect(),
-                c => vec![c],
-            })
-            .collect();
-        self.items.push((k.into(), format!("\"{escaped}\"")));
-        self
-    }
-    pub fn array(&mut self, k: &str, v: &[f64]) -> &mut Self {
-        let inner: Vec<String> = v.iter().map(|&x| json_f64(x)).collect();
-        self.items
-            .push((k.into(), format!("[{}]", inner.join(", "))));
-        self
-    }
-    pub fn int_array(&mut self, k: &str, v: &[usize]) -> &mut Self {
-        let inner: Vec<String> = v.iter().map(|x| x.to_string()).collect();
-        self.items
-            .push((k.into(), format!("[{}]", inner.join(", "))));
-        self
-    }
-    pub fn render(&self) -> String {
-        let body: Vec<String> = self
-            .items
-            .iter()
-            .map(|(k, v)| format!("  \"{k}\": {v}"))
-            .collect();
-        format!("{{\n{}\n}}\n", body.join(",\n"))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn hertz_2d_integrates_to_the_force() {
-        // The integral of p over (-b, b) is F.
-        let (f, r, e) = (1600.0, 8.0, 2000.0 / (1.0 - 0.09));
-        let (_, _, b) = hertz_pressure(2, f, r, e, 0.0);
-        let m = 200000;
-        let h = 2.0 * b / m as f64;
-        let total: f64 = (0..m)
-            .map(|i| hertz_pressure(2, f, r, e, (-b + (i as f64 + 0.5) * h).abs()).0 * h)
-            .sum();
-        assert!((total - f).abs() < 1e-3 * f);
-    }
-
-    #[test]
-    fn hertz_3d_integrates_to_the_force() {
-        let (f, r, e) = (1000.0, 0.5, 1e6);
-        let (_, _, a) = hertz_pressure(3, f, r, e, 0.0);
-        let m = 100000;
-        let h = a / m as f64;
-        let total: f64 = (0..m)
-            .map(|i| {
-                let x = (i as f64 + 0.5) * h;
-                hertz_pressure(3, f, r, e, x).0 * 2.0 * std::f64::consts::PI * x * h
-            })
-            .sum();
-        assert!((total - f).abs() < 1e-3 * f);
-    }
-
-    #[test]
-    fn json_escapes_and_nulls() {
-        let mut j = Json::default();
-        j.string("a", "x\"y")
-            .num("b", f64::NAN)
-            .opt("c", None)
-            .int("d", 3);
-        let s = j.render();
-        assert!(s.contains("\"a\": \"x\\\"y\""));
-        assert!(s.contains("\"b\": null"));
-        assert!(s.contains("\"c\": null"));
-    }
 
     #[test]
     fn atomic_write_leaves_no_temporary() {
         let dir = std::env::temp_dir().join(format!("ubr-atomic-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let p = dir.join("out.json");
-        write_atomic("-report", p.to_str().unwrap(), b"{}").unwrap();
+        write_atomic(&p, b"{}").unwrap();
         assert_eq!(std::fs::read(&p).unwrap(), b"{}");
         let names: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
         assert_eq!(names.len(), 1);
         let bad = dir.join("missing/out.json");
-        let e = write_atomic("-report", bad.to_str().unwrap(), b"{}").unwrap_err();
-        assert!(e.to_string().contains("-report"));
+        assert!(write_atomic(&bad, b"{}").is_err());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -26,6 +26,7 @@
 //! Empty series, or no drawable point at all, give a plot with empty axes
 //! (marked "no data"), never a panic.
 
+use super::write_atomic;
 use ab_glyph::{Font as _, FontRef, PxScale, ScaleFont as _};
 use plotters::coord::combinators::LogCoord;
 use plotters::coord::ranged1d::BoldPoints;
@@ -38,10 +39,8 @@ use plotters_backend::text_anchor::{HPos, VPos};
 use plotters_backend::{
     BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingErrorKind,
 };
-use std::io::Write as _;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
 /// Image size in pixels.
@@ -94,7 +93,7 @@ pub fn plot_lines(
 ) -> Result<(), String> {
     let png = render(title, x_label, y_label, series, log_y)
         .map_err(|e| format!("cannot draw plot '{}': {e}", path.display()))?;
-    write_atomic(path, &png)
+    write_atomic(path, &png).map_err(|e| format!("cannot write plot '{}': {e}", path.display()))
 }
 
 /// Convergence plot: each `(label, values)` against `iterations`, as lines
@@ -883,35 +882,6 @@ fn read_font(candidates: &[PathBuf]) -> Result<(&'static [u8], FontRef<'static>)
          UBR_PLOT_FONT to a .ttf file; tried {}",
         tried.join(", ")
     ))
-}
-
-/// Writes `bytes` to `path` atomically: a temporary `.png` file in the same
-/// directory, then a rename; on failure the temporary file is removed.
-fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .ok_or_else(|| format!("cannot write plot '{}': not a file path", path.display()))?;
-    let tmp = dir.join(format!(
-        ".{}.tmp{}-{}.png",
-        name.to_string_lossy(),
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let result = (|| -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    result.map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        format!("cannot write plot '{}': {e}", path.display())
-    })
 }
 
 #[cfg(test)]

@@ -25,6 +25,7 @@
 //!   components per entry (row-major 2x2) are also accepted and embedded in
 //!   the upper-left block of a 3x3 tensor with zeros elsewhere.
 //! * [`Field::Int`]: one `i32` per entry (a rank, a contact status).
+//! * [`Field::Id`]: one `i64` per entry (the mesh file's node tag).
 //!
 //! Point fields have one entry per point, cell fields one per cell.
 //!
@@ -37,9 +38,9 @@
 //! failure while writing leaves no file behind: files are written to a
 //! temporary file in the same directory, then renamed.
 
-use std::io::{self, Write as _};
+use super::write_atomic;
+use std::io;
 use std::path::Path;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// VTK cell type of a linear triangle.
 const VTK_TRIANGLE: u8 = 5;
@@ -57,13 +58,15 @@ pub enum FieldKind {
     Tensor,
     /// One `i32`.
     Int,
+    /// One `i64` (an identifier, e.g. the mesh file's node tag).
+    Id,
 }
 
 impl FieldKind {
     /// Number of components per entry in the file.
     pub fn components(self) -> usize {
         match self {
-            FieldKind::Scalar | FieldKind::Int => 1,
+            FieldKind::Scalar | FieldKind::Int | FieldKind::Id => 1,
             FieldKind::Vector => 3,
             FieldKind::Tensor => 9,
         }
@@ -72,6 +75,7 @@ impl FieldKind {
     fn vtk_type(self) -> &'static str {
         match self {
             FieldKind::Int => "Int32",
+            FieldKind::Id => "Int64",
             _ => "Float64",
         }
     }
@@ -89,13 +93,19 @@ pub enum Field<'a> {
     Tensor(&'a str, &'a [f64]),
     /// One integer per entry.
     Int(&'a str, &'a [i32]),
+    /// One 64-bit identifier per entry (written as `Int64`).
+    Id(&'a str, &'a [u64]),
 }
 
 impl<'a> Field<'a> {
     /// The field's name.
     pub fn name(&self) -> &'a str {
         match *self {
-            Field::Scalar(n, _) | Field::Vector(n, _) | Field::Tensor(n, _) | Field::Int(n, _) => n,
+            Field::Scalar(n, _)
+            | Field::Vector(n, _)
+            | Field::Tensor(n, _)
+            | Field::Int(n, _)
+            | Field::Id(n, _) => n,
         }
     }
 
@@ -106,6 +116,7 @@ impl<'a> Field<'a> {
             Field::Vector(..) => FieldKind::Vector,
             Field::Tensor(..) => FieldKind::Tensor,
             Field::Int(..) => FieldKind::Int,
+            Field::Id(..) => FieldKind::Id,
         }
     }
 }
@@ -167,7 +178,7 @@ pub fn piece_file_name(stem: &str, rank: usize) -> String {
 /// Writes one `.vtu` piece (XML `UnstructuredGrid`). Atomic.
 pub fn write_vtu(path: &Path, piece: &Piece) -> io::Result<()> {
     let bytes = vtu_bytes(piece)?;
-    write_atomic(path, &bytes)
+    write_named(path, &bytes)
 }
 
 /// Writes the `.pvtu` index naming the pieces (file names relative to the
@@ -180,7 +191,13 @@ pub fn write_pvtu(
     cell_fields: &[(&str, FieldKind)],
 ) -> io::Result<()> {
     let bytes = pvtu_bytes(pieces, point_fields, cell_fields)?;
-    write_atomic(path, &bytes)
+    write_named(path, &bytes)
+}
+
+/// [`write_atomic`], its error naming the file.
+fn write_named(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    write_atomic(path, bytes)
+        .map_err(|e| io::Error::new(e.kind(), format!("cannot write '{}': {e}", path.display())))
 }
 
 /// The contents of a `.vtu` file for `piece`, after checking it.
@@ -362,6 +379,13 @@ fn encode_fields(location: &str, fields: &[Field], n: usize, dim: usize) -> io::
                 let bytes: Vec<u8> = v.iter().flat_map(|i| i.to_le_bytes()).collect();
                 data_array(&mut x, name, "Int32", 1, &bytes);
             }
+            Field::Id(_, v) => {
+                if v.len() != n {
+                    return Err(bad_len(v.len(), "1"));
+                }
+                let ids: Vec<i64> = v.iter().map(|&i| i as i64).collect();
+                data_array(&mut x, name, "Int64", 1, &i64_bytes(&ids));
+            }
         }
     }
     Ok(x)
@@ -470,38 +494,6 @@ fn xml_escape(s: &str) -> String {
         }
     }
     out
-}
-
-/// Writes `bytes` to `path` atomically: a temporary file in the same
-/// directory, then a rename; on failure the temporary file is removed.
-fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path.file_name().ok_or_else(|| {
-        invalid_input(format!(
-            "cannot write '{}': not a file path",
-            path.display()
-        ))
-    })?;
-    let tmp = dir.join(format!(
-        ".{}.tmp{}-{}",
-        name.to_string_lossy(),
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let result = (|| -> io::Result<()> {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    result.map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io::Error::new(e.kind(), format!("cannot write '{}': {e}", path.display()))
-    })
 }
 
 #[cfg(test)]

@@ -7,8 +7,10 @@
 
 pub mod anderson;
 pub mod cf_fp;
+pub mod checks;
 pub mod deferred;
 pub mod linear;
+pub mod outcome;
 pub mod penalty;
 pub mod snesvi;
 pub mod ssn;
@@ -248,7 +250,7 @@ impl Problem {
         };
         let el = fem::assemble_stiffness(comm, mesh, settings, &extra)?;
         let a = el.stiffness;
-        let load_local = fem::traction_load(mesh, &settings.traction)?;
+        let load_local = fem::loads::external_load(mesh, settings, &el.lumped_mass)?;
         let dir = fem::dirichlet_dofs(mesh, &settings.dirichlet)?;
         let nown = mesh.owned_count * d;
         let load = Vector::new(comm, nown, d)?;

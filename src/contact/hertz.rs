@@ -1,0 +1,125 @@
+//! Hertz's analytic contact pressure (DESIGN.md, "Reference"), and where a
+//! candidate lies relative to the contact centre. The one copy of these
+//! formulas: the reference comparison, `-tresca_bound hertz` and
+//! `-plot_contact` all use them.
+
+use std::f64::consts::PI;
+
+/// Hertz pressure at distance `x` from the centre, with the peak pressure
+/// p0 and the half-width (b in 2D, a in 3D): a cylinder on a plane in 2D (F
+/// per unit thickness), a sphere in 3D; `e_star` = E / (1 - nu^2).
+pub fn pressure(dim: usize, force: f64, radius: f64, e_star: f64, x: f64) -> (f64, f64, f64) {
+    if dim == 2 {
+        // Cylinder on a plane: b = 2 sqrt(F R / (pi E*)), p = 2F/(pi b^2) sqrt(b^2 - x^2).
+        let b = 2.0 * (force * radius / (PI * e_star)).sqrt();
+        let p0 = 2.0 * force / (PI * b);
+        let p = if x < b {
+            2.0 * force / (PI * b * b) * (b * b - x * x).sqrt()
+        } else {
+            0.0
+        };
+        (p, p0, b)
+    } else {
+        // Sphere: a = (3FR/(4E*))^(1/3), p0 = 3F/(2 pi a^2).
+        let a = (3.0 * force * radius / (4.0 * e_star)).cbrt();
+        let p0 = 3.0 * force / (2.0 * PI * a * a);
+        let p = if x < a {
+            p0 * (1.0 - x * x / (a * a)).sqrt()
+        } else {
+            0.0
+        };
+        (p, p0, a)
+    }
+}
+
+/// The contact centre: `given` (`-reference_center`), else the position of
+/// the candidate with the smallest gap among `(gap, x)`.
+pub fn center<'a>(
+    given: Option<&[f64]>,
+    dim: usize,
+    candidates: impl Iterator<Item = (f64, &'a [f64])>,
+) -> Vec<f64> {
+    if let Some(c) = given {
+        return c.to_vec();
+    }
+    candidates
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, x)| x[..dim].to_vec())
+        .unwrap_or(vec![0.0; dim])
+}
+
+/// `x - center` without its component along `n`.
+fn tangential_offset(x: &[f64], center: &[f64], n: &[f64]) -> Vec<f64> {
+    let dx: Vec<f64> = n
+        .iter()
+        .enumerate()
+        .map(|(k, _)| x[k] - center[k])
+        .collect();
+    let dn: f64 = dx.iter().zip(n).map(|(a, b)| a * b).sum();
+    dx.iter().zip(n).map(|(a, b)| a - dn * b).collect()
+}
+
+/// Distance of `x` from `center` orthogonal to `n` (the Hertz radius).
+pub fn distance(x: &[f64], center: &[f64], n: &[f64]) -> f64 {
+    tangential_offset(x, center, n)
+        .iter()
+        .map(|v| v * v)
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// 2D: the signed coordinate of `x` along the surface from `center`, along
+/// the tangent t = (-n_y, n_x) (for n = (0,-1), t = (1,0): x grows).
+pub fn coordinate_2d(x: &[f64], center: &[f64], n: &[f64]) -> f64 {
+    let t = [-n[1], n[0]];
+    (x[0] - center[0]) * t[0] + (x[1] - center[1]) * t[1]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hertz_2d_integrates_to_the_force() {
+        // The integral of p over (-b, b) is F.
+        let (f, r, e) = (1600.0, 8.0, 2000.0 / (1.0 - 0.09));
+        let (_, _, b) = pressure(2, f, r, e, 0.0);
+        let m = 200000;
+        let h = 2.0 * b / m as f64;
+        let total: f64 = (0..m)
+            .map(|i| pressure(2, f, r, e, (-b + (i as f64 + 0.5) * h).abs()).0 * h)
+            .sum();
+        assert!((total - f).abs() < 1e-3 * f);
+    }
+
+    #[test]
+    fn hertz_3d_integrates_to_the_force() {
+        let (f, r, e) = (1000.0, 0.5, 1e6);
+        let (_, _, a) = pressure(3, f, r, e, 0.0);
+        let m = 100000;
+        let h = a / m as f64;
+        let total: f64 = (0..m)
+            .map(|i| {
+                let x = (i as f64 + 0.5) * h;
+                pressure(3, f, r, e, x).0 * 2.0 * PI * x * h
+            })
+            .sum();
+        assert!((total - f).abs() < 1e-3 * f);
+    }
+
+    #[test]
+    fn distances_from_the_centre() {
+        let n = [0.0, 0.0, -1.0];
+        assert!((distance(&[3.0, 4.0, 7.0], &[0.0, 0.0, 0.0], &n) - 5.0).abs() < 1e-15);
+        let n2 = [0.0, -1.0];
+        assert_eq!(coordinate_2d(&[-2.0, 5.0], &[0.0, 0.0], &n2), -2.0);
+        assert_eq!(coordinate_2d(&[2.0, 5.0], &[0.0, 0.0], &n2), 2.0);
+        let pts = [[1.0, 2.0], [3.0, 4.0]];
+        let c = center(
+            None,
+            2,
+            [(0.5, &pts[0][..]), (0.1, &pts[1][..])].into_iter(),
+        );
+        assert_eq!(c, vec![3.0, 4.0]);
+    }
+}

@@ -1,0 +1,115 @@
+//! The rigid obstacle and the gap along the contact direction n
+//! (DESIGN.md, "Gap").
+
+/// The rigid obstacle (`-obstacle`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Obstacle {
+    Plane {
+        point: Vec<f64>,
+    },
+    Ball {
+        center: Vec<f64>,
+        radius: f64,
+    },
+    /// The paper's 3D obstacle (section 7.2): the half of the ball facing the
+    /// body, standing on its flat face on a rigid floor, the plane through the
+    /// centre orthogonal to n. Every node of the contact surface is a
+    /// candidate (the paper's Gamma_c is the whole surface).
+    HalfBall {
+        center: Vec<f64>,
+        radius: f64,
+    },
+}
+
+impl Obstacle {
+    /// A point of the obstacle: the plane's point, the ball's centre.
+    pub fn anchor(&self) -> &[f64] {
+        match self {
+            Obstacle::Plane { point } => point,
+            Obstacle::Ball { center, .. } | Obstacle::HalfBall { center, .. } => center,
+        }
+    }
+}
+
+/// Gap from `x` along `n` to the obstacle, or `None` when the line `x + t n`
+/// misses it (ball only; DESIGN.md: candidate only if it meets the sphere at
+/// two points and t2 > 0, then g = t1). A half-ball on its floor is the union
+/// of the ball and the half-space beyond the plane through the centre: the
+/// line enters the ball first where it meets it (t1 <= the plane's t), and
+/// the floor elsewhere, so every node is a candidate.
+pub fn gap(x: &[f64], n: &[f64], obstacle: &Obstacle) -> Option<f64> {
+    let along = |p: &[f64]| -> f64 { p.iter().zip(x).zip(n).map(|((p, x), n)| (p - x) * n).sum() };
+    match obstacle {
+        Obstacle::Plane { point } => Some(along(point)),
+        Obstacle::Ball { center, radius } => ball_entry(x, n, center, *radius),
+        Obstacle::HalfBall { center, radius } => {
+            Some(ball_entry(x, n, center, *radius).unwrap_or_else(|| along(center)))
+        }
+    }
+}
+
+/// Where the line `x + t n` enters the ball: `t1` when it meets the sphere at
+/// `t1 < t2` with `t2 > 0`, else `None`.
+fn ball_entry(x: &[f64], n: &[f64], center: &[f64], radius: f64) -> Option<f64> {
+    // |x + t n - c|^2 = R^2, |n| = 1: t^2 + 2 t (x-c).n + |x-c|^2 - R^2 = 0.
+    let dc: Vec<f64> = x.iter().zip(center).map(|(x, c)| x - c).collect();
+    let b = dc.iter().zip(n).map(|(a, b)| a * b).sum::<f64>();
+    let c = dc.iter().map(|a| a * a).sum::<f64>() - radius * radius;
+    let disc = b * b - c;
+    if disc <= 0.0 {
+        return None;
+    }
+    let s = disc.sqrt();
+    let (t1, t2) = (-b - s, -b + s);
+    (t2 > 0.0).then_some(t1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ball_gap() {
+        let ball = Obstacle::Ball {
+            center: vec![0.0, -1.0],
+            radius: 0.5,
+        };
+        // Straight above the top of the circle (y=-0.5) by 0.5.
+        let g = gap(&[0.0, 0.0], &[0.0, -1.0], &ball).unwrap();
+        assert!((g - 0.5).abs() < 1e-14);
+        assert!(gap(&[0.6, 0.0], &[0.0, -1.0], &ball).is_none());
+        // Below the ball's centre line but t2 < 0: moving away from it.
+        assert!(gap(&[0.0, -2.0], &[0.0, -1.0], &ball).is_none());
+        let plane = Obstacle::Plane {
+            point: vec![0.0, 0.0],
+        };
+        assert!((gap(&[3.0, 0.25], &[0.0, -1.0], &plane).unwrap() - 0.25).abs() < 1e-15);
+    }
+
+    #[test]
+    fn half_ball_gap() {
+        // The paper's 3D obstacle: centre (-0.3, 0, -1), radius 0.5, n = -z.
+        let hb = Obstacle::HalfBall {
+            center: vec![-0.3, 0.0, -1.0],
+            radius: 0.5,
+        };
+        let n = [0.0, 0.0, -1.0];
+        // Above the pole: the same gap as the ball (touching at z = -0.5).
+        assert!(gap(&[-0.3, 0.0, -0.5], &n, &hb).unwrap().abs() < 1e-15);
+        let x = [-0.1, 0.2, -0.5];
+        let ball = Obstacle::Ball {
+            center: vec![-0.3, 0.0, -1.0],
+            radius: 0.5,
+        };
+        assert_eq!(gap(&x, &n, &hb), gap(&x, &n, &ball));
+        // Beside the ball: the floor z = -1, 0.5 below the bottom face,
+        // where the ball alone has no candidate.
+        assert!(gap(&[0.5, 0.9, -0.5], &n, &ball).is_none());
+        assert!((gap(&[0.5, 0.9, -0.5], &n, &hb).unwrap() - 0.5).abs() < 1e-15);
+        // Over the ball the entry is never beyond the floor.
+        for i in 0..=20 {
+            let x = [-0.8 + 0.05 * i as f64, 0.1, -0.5];
+            assert!(gap(&x, &n, &hb).unwrap() <= 0.5 + 1e-15);
+        }
+    }
+}

@@ -1,0 +1,210 @@
+//! The external loads beyond surface tractions: a body force per unit
+//! volume, a pressure along the facet normals of a boundary group; and the
+//! unmodified stiffness applied to a displacement at chosen rows, for the
+//! reaction forces of the Dirichlet groups.
+
+use super::{facet_measure, hooke_2d, hooke_3d, stiffness_2d, stiffness_3d, traction_load};
+use crate::error::{bad, Error};
+use crate::mesh::distribute::LocalMesh;
+use crate::options::Settings;
+use std::collections::HashMap;
+
+/// The load vector's owned entries: tractions, pressures and the body force.
+/// `lumped_mass` is `int phi_a` of each owned node, so that a constant body
+/// force b gives `b int phi_a` to node a, exactly.
+pub fn external_load(
+    mesh: &LocalMesh,
+    settings: &Settings,
+    lumped_mass: &[f64],
+) -> Result<Vec<f64>, Error> {
+    let d = mesh.dim;
+    let mut f = traction_load(mesh, &settings.traction)?;
+    pressure_load(mesh, settings, &mut f)?;
+    if let Some(b) = &settings.body_force {
+        if b.len() != d {
+            return bad(format!(
+                "option -body_force (or -gravity): {} components given, the mesh is {d}D",
+                b.len()
+            ));
+        }
+        for (a, m) in lumped_mass.iter().enumerate() {
+            for c in 0..d {
+                f[a * d + c] += m * b[c];
+            }
+        }
+    }
+    Ok(f)
+}
+
+/// The unit normal of a facet (2 points in 2D, 3 or 4 in 3D), not oriented.
+fn facet_normal(pts: &[&[f64]]) -> Vec<f64> {
+    let sub = |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x - y).collect() };
+    let n = if pts[0].len() == 2 {
+        let t = sub(pts[1], pts[0]);
+        vec![t[1], -t[0]]
+    } else {
+        // A triangle: (p1 - p0) x (p2 - p0); a quadrilateral: its diagonals.
+        let (u, v) = if pts.len() == 4 {
+            (sub(pts[2], pts[0]), sub(pts[3], pts[1]))
+        } else {
+            (sub(pts[1], pts[0]), sub(pts[2], pts[0]))
+        };
+        vec![
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ]
+    };
+    let len = n.iter().map(|v| v * v).sum::<f64>().sqrt();
+    n.iter().map(|v| v / len).collect()
+}
+
+fn centroid<'a>(dim: usize, pts: impl ExactSizeIterator<Item = &'a [f64]>) -> Vec<f64> {
+    let k = pts.len() as f64;
+    let mut c = vec![0.0; dim];
+    for p in pts {
+        for (ci, pi) in c.iter_mut().zip(p) {
+            *ci += pi / k;
+        }
+    }
+    c
+}
+
+/// Adds the pressures `-pressure_NAME P` to `f`: on each facet of the group
+/// the force `-P nu |F|` (nu the body's outward normal there, taken away
+/// from the cell the facet bounds), shared among its vertices like a traction.
+fn pressure_load(mesh: &LocalMesh, settings: &Settings, f: &mut [f64]) -> Result<(), Error> {
+    if settings.pressure.is_empty() {
+        return Ok(());
+    }
+    let d = mesh.dim;
+    let k = d + 1;
+    // The cells around each node (local cells: every cell of an owned node).
+    let mut cells_of: HashMap<usize, Vec<usize>> = HashMap::new();
+    for (c, cell) in mesh.cells.chunks(k).enumerate() {
+        for &v in cell {
+            cells_of.entry(v).or_default().push(c);
+        }
+    }
+    for p in &settings.pressure {
+        let option = format!("-pressure_{}", p.group);
+        let group = mesh.group_for(&option, &p.group, d - 1..=d - 1, "a pressure")?;
+        let m = group.nodes_per_element();
+        for e in group.conn.chunks(m) {
+            if !e.iter().any(|&v| mesh.is_owned(v)) {
+                continue;
+            }
+            let Some(&cell) = cells_of.get(&e[0]).and_then(|cs| {
+                cs.iter()
+                    .find(|&&c| e.iter().all(|v| mesh.cells[c * k..(c + 1) * k].contains(v)))
+            }) else {
+                return bad(format!(
+                    "option {option}: a facet of group '{}' (nodes {}) bounds no cell of the mesh",
+                    p.group,
+                    e.iter()
+                        .map(|&v| mesh.node_tag[v].to_string())
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                ));
+            };
+            let pts: Vec<&[f64]> = e.iter().map(|&v| mesh.x(v)).collect();
+            let mut nu = facet_normal(&pts);
+            let fc = centroid(d, pts.iter().copied());
+            let cc = centroid(
+                d,
+                mesh.cells[cell * k..(cell + 1) * k]
+                    .iter()
+                    .map(|&v| mesh.x(v)),
+            );
+            if nu
+                .iter()
+                .zip(fc.iter().zip(&cc))
+                .map(|(n, (a, b))| n * (a - b))
+                .sum::<f64>()
+                < 0.0
+            {
+                nu.iter_mut().for_each(|v| *v = -*v);
+            }
+            let share = facet_measure(&pts) / m as f64;
+            for &v in e {
+                if mesh.is_owned(v) {
+                    for c in 0..d {
+                        f[v * d + c] -= share * p.pressure * nu[c];
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `(K u)_i` at the owned dofs i where `wanted[i]`, with K the stiffness
+/// before any Dirichlet elimination, element by element; `u_local` holds
+/// the displacement at every local node (owned and ghost).
+pub fn stiffness_rows(
+    mesh: &LocalMesh,
+    settings: &Settings,
+    u_local: &[f64],
+    wanted: &[bool],
+) -> Vec<f64> {
+    let d = mesh.dim;
+    let k = d + 1;
+    let nloc = d * k;
+    let mut out = vec![0.0; wanted.len()];
+    let d2 = hooke_2d(settings.young, settings.nu, settings.plane_stress);
+    let d3 = hooke_3d(settings.young, settings.nu);
+    let wants = |v: usize| mesh.is_owned(v) && (0..d).any(|c| wanted[v * d + c]);
+    let mut ke = vec![0.0; nloc * nloc];
+    for cell in mesh.cells.chunks(k) {
+        if !cell.iter().any(|&v| wants(v)) {
+            continue;
+        }
+        if d == 2 {
+            let x = [0, 1, 2].map(|a| {
+                let p = mesh.x(cell[a]);
+                [p[0], p[1]]
+            });
+            let (m, _) = stiffness_2d(&x, &d2);
+            ke.iter_mut()
+                .enumerate()
+                .for_each(|(i, v)| *v = m[(i / nloc, i % nloc)]);
+        } else {
+            let x = [0, 1, 2, 3].map(|a| {
+                let p = mesh.x(cell[a]);
+                [p[0], p[1], p[2]]
+            });
+            let (m, _) = stiffness_3d(&x, &d3);
+            ke.iter_mut()
+                .enumerate()
+                .for_each(|(i, v)| *v = m[(i / nloc, i % nloc)]);
+        }
+        for (ia, &a) in cell.iter().enumerate() {
+            for ca in 0..d {
+                if !mesh.is_owned(a) || !wanted[a * d + ca] {
+                    continue;
+                }
+                let row = &ke[(ia * d + ca) * nloc..(ia * d + ca + 1) * nloc];
+                out[a * d + ca] += cell
+                    .iter()
+                    .enumerate()
+                    .flat_map(|(ib, &b)| (0..d).map(move |cb| (ib * d + cb, b * d + cb)))
+                    .map(|(j, g)| row[j] * u_local[g])
+                    .sum::<f64>();
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn facet_normals_are_unit() {
+        let n = facet_normal(&[&[0.0, 0.0], &[2.0, 0.0]]);
+        assert_eq!(n, vec![0.0, -1.0]);
+        let n = facet_normal(&[&[0.0, 0.0, 0.0], &[1.0, 0.0, 0.0], &[0.0, 1.0, 0.0]]);
+        assert_eq!(n, vec![0.0, 0.0, 1.0]);
+    }
+}

@@ -1,0 +1,235 @@
+//! Options that nothing used: a mistyped name (`-ubr_rtoll`, `-frictoin`)
+//! is otherwise silently ignored. Every rank holds the same database, so
+//! rank 0 alone warns, with the closest known name:
+//! `warning: option -ubr_rtoll was not used; did you mean -ubr_rtol?`.
+//!
+//! Checked twice: before the iterations ([`Unused::early`]: by then the
+//! program and PETSc's solver objects have read their options, so a name
+//! that looks like one of the program's and is unused is certainly wrong),
+//! and at the end of the run ([`Unused::finish`]: every option left).
+
+use super::declared::ALL;
+use crate::error::Error;
+use crate::petsc::options;
+
+/// PETSc options a user commonly types, for suggestions (the program's own
+/// come from [`ALL`]).
+const PETSC_NAMES: &[&str] = &[
+    "-ksp_type",
+    "-pc_type",
+    "-ksp_rtol",
+    "-ksp_atol",
+    "-ksp_max_it",
+    "-ksp_monitor",
+    "-ksp_view",
+    "-ksp_converged_reason",
+    "-ksp_norm_type",
+    "-pc_factor_mat_solver_type",
+    "-pc_gamg_threshold",
+    "-mat_mumps_icntl_7",
+    "-mat_mumps_icntl_14",
+    "-log_view",
+    "-options_left",
+    "-options_file",
+    "-snes_monitor",
+    "-snes_type",
+    "-no_signal_handler",
+    "-malloc_debug",
+    "-info",
+];
+
+/// Options PETSc reads only in `PetscFinalize`, after the run: never
+/// reported at its end.
+const READ_AT_FINALIZE: &[&str] = &[
+    "-options_left",
+    "-options_view",
+    "-log_view",
+    "-log_view_memory",
+    "-log_summary",
+    "-log_all",
+    "-log_trace",
+    "-malloc_dump",
+    "-malloc_view",
+    "-memory_view",
+    "-objects_dump",
+    "-checkstack",
+];
+
+/// Prefixes of the program's own options.
+const OUR_PREFIXES: &[&str] = &[
+    "-ubr_",
+    "-ssn_",
+    "-mesh",
+    "-contact_",
+    "-obstacle",
+    "-friction",
+    "-tresca",
+    "-reference",
+    "-plot_",
+    "-dirichlet",
+    "-traction",
+    "-pressure",
+];
+
+/// The restricted Damerau-Levenshtein distance (a transposition counts 1).
+fn distance(a: &str, b: &str) -> usize {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
+    }
+    for (j, v) in d[0].iter_mut().enumerate() {
+        *v = j;
+    }
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut v = (d[i - 1][j] + 1)
+                .min(d[i][j - 1] + 1)
+                .min(d[i - 1][j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                v = v.min(d[i - 2][j - 2] + 1);
+            }
+            d[i][j] = v;
+        }
+    }
+    d[a.len()][b.len()]
+}
+
+/// How far a name may be from a known one to be suggested.
+fn close_enough(name: &str, distance: usize) -> bool {
+    distance <= 2.max(name.len() / 5)
+}
+
+/// The known name closest to `name` (a program option, a family member
+/// `-dirichlet_NAME` with its prefix corrected, a PETSc option used in this
+/// run or commonly typed), if one is close enough.
+pub fn suggestion(name: &str, used: &[String]) -> Option<String> {
+    let mut best: Option<(usize, String)> = None;
+    let mut consider = |dist: usize, candidate: String| {
+        if candidate != name
+            && close_enough(name, dist)
+            && best.as_ref().is_none_or(|(d, _)| dist < *d)
+        {
+            best = Some((dist, candidate));
+        }
+    };
+    for o in ALL {
+        match o.prefix() {
+            None => consider(distance(name, o.name()), o.name().to_string()),
+            Some(prefix) => {
+                // -dirichlett_left: the prefix mistyped, the group name kept.
+                let chars: Vec<char> = name.chars().collect();
+                let p = prefix.chars().count();
+                for k in p.saturating_sub(2)..=(p + 2).min(chars.len().saturating_sub(1)) {
+                    let head: String = chars[..k].iter().collect();
+                    let tail: String = chars[k..].iter().collect();
+                    if head.ends_with('_') {
+                        consider(distance(&head, prefix), format!("{prefix}{tail}"));
+                    }
+                }
+            }
+        }
+    }
+    for n in PETSC_NAMES
+        .iter()
+        .map(|s| s.to_string())
+        .chain(used.iter().cloned())
+    {
+        consider(distance(name, &n), n);
+    }
+    best.map(|(_, s)| s)
+}
+
+/// Whether `name` looks like one of the program's options (so that, unused
+/// once the program has read its options, it is certainly a mistake).
+fn looks_ours(name: &str, used: &[String]) -> bool {
+    if OUR_PREFIXES.iter().any(|p| name.starts_with(p)) {
+        return true;
+    }
+    suggestion(name, used).is_some_and(|s| {
+        ALL.iter()
+            .any(|o| o.name() == s || o.prefix().is_some_and(|p| s.starts_with(p)))
+    })
+}
+
+/// The warning line for an unused option.
+pub fn message(name: &str, used: &[String]) -> String {
+    match suggestion(name, used) {
+        Some(s) => format!("warning: option {name} was not used; did you mean {s}?"),
+        None => format!(
+            "warning: option {name} was not used (neither ubr-petsc nor PETSc knows it here; -help lists the options)"
+        ),
+    }
+}
+
+/// The unknown-option check of one run: remembers what it has warned about.
+#[derive(Default)]
+pub struct Unused {
+    warned: Vec<String>,
+}
+
+impl Unused {
+    /// Warns (rank 0) about the unused options that look like the
+    /// program's own: called once the program and the linear solver have
+    /// read theirs, before a long solve.
+    pub fn early(&mut self, root: bool) -> Result<(), Error> {
+        self.warn(root, true)
+    }
+
+    /// Warns (rank 0) about every option nothing used, at the end of the run.
+    pub fn finish(&mut self, root: bool) -> Result<(), Error> {
+        self.warn(root, false)
+    }
+
+    fn warn(&mut self, root: bool, only_ours: bool) -> Result<(), Error> {
+        let left = options::unused()?;
+        let all = options::all_names()?;
+        let used: Vec<String> = all.into_iter().filter(|n| !left.contains(n)).collect();
+        for name in left {
+            if self.warned.contains(&name)
+                || READ_AT_FINALIZE.contains(&name.as_str())
+                || (only_ours && !looks_ours(&name, &used))
+            {
+                continue;
+            }
+            if root {
+                eprintln!("{}", message(&name, &used));
+            }
+            self.warned.push(name);
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn suggestions_of_the_trial() {
+        let none: Vec<String> = Vec::new();
+        assert_eq!(
+            suggestion("-ubr_rtoll", &none).as_deref(),
+            Some("-ubr_rtol")
+        );
+        assert_eq!(suggestion("-frictoin", &none).as_deref(), Some("-friction"));
+        assert_eq!(suggestion("-gravty", &none).as_deref(), Some("-gravity"));
+        assert_eq!(
+            suggestion("-dirichlett_left", &none).as_deref(),
+            Some("-dirichlet_left")
+        );
+        assert_eq!(suggestion("-ksp_tpye", &none).as_deref(), Some("-ksp_type"));
+        assert_eq!(suggestion("-completely_different_thing", &none), None);
+        assert!(looks_ours("-ubr_rtoll", &none));
+        assert!(looks_ours("-frictoin", &none));
+        assert!(!looks_ours("-pc_gamg_agg_nsmooths", &none));
+    }
+
+    #[test]
+    fn distance_counts_transpositions_once() {
+        assert_eq!(distance("abc", "acb"), 1);
+        assert_eq!(distance("kitten", "sitting"), 3);
+        assert_eq!(distance("", "ab"), 2);
+    }
+}

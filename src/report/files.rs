@@ -1,0 +1,395 @@
+//! The output files: the contact CSV, the JSON report and the plots
+//! (rank 0), and the ParaView files: `-vtk FILE.vtu` gathers the mesh on
+//! rank 0 into one file, `-vtk PATH.pvtu` has every rank write its piece.
+//! Every file is written atomically; a failure on any rank fails the run.
+
+use super::vtk::{self, Field, Piece};
+use super::{json, plot, ContactRow, Results};
+use crate::contact::hertz;
+use crate::error::Error;
+use crate::mesh::distribute::LocalMesh;
+use crate::options::{Friction, Settings};
+use crate::solver::allreduce_max;
+use mpi::traits::*;
+use std::path::Path;
+
+/// Rank 0's files: the plots, the contact CSV, the report.
+pub fn write_root_files(m: &Results) -> Result<(), Error> {
+    let s = m.settings;
+    let mut first_error = None;
+    let mut keep = |r: Result<(), Error>| {
+        if let Err(e) = r {
+            first_error.get_or_insert(e);
+        }
+    };
+    if let Some(path) = &s.plot_contact {
+        keep(plot_contact(path, m));
+    }
+    if let Some(path) = &s.plot_history {
+        keep(plot_history(path, m));
+    }
+    if let Some(path) = &s.contact_output {
+        keep(
+            super::write_atomic(Path::new(path), super::csv(m.rows).as_bytes())
+                .map_err(|e| Error::output("-contact_output", path, e)),
+        );
+    }
+    if let Some(path) = &s.report {
+        let text = json::Report::new(m).to_json();
+        keep(
+            super::write_atomic(Path::new(path), text.as_bytes())
+                .map_err(|e| Error::output("-report", path, e)),
+        );
+    }
+    first_error.map_or(Ok(()), Err)
+}
+
+/// Makes a write failure on any rank the failure of all.
+pub fn collective<C: Communicator>(world: &C, outcome: Result<(), Error>) -> Result<(), Error> {
+    let failed = allreduce_max(world, if outcome.is_err() { 1.0 } else { 0.0 });
+    match outcome {
+        Err(e) => Err(e),
+        Ok(()) if failed > 0.0 => Err(Error::BadInput(
+            "writing an output file failed on rank 0".into(),
+        )),
+        Ok(()) => Ok(()),
+    }
+}
+
+fn plot_history(path: &str, m: &Results) -> Result<(), Error> {
+    let h = &m.state.history;
+    let its: Vec<f64> = (0..h.len()).map(|k| k as f64).collect();
+    let change: Vec<f64> = h.iter().map(|h| h[0]).collect();
+    let residual: Vec<f64> = h.iter().map(|h| h[1]).collect();
+    plot::plot_history(
+        Path::new(path),
+        &format!("{}: convergence history", m.solved.name),
+        &its,
+        &[
+            ("relative change (4.16)/(5.6)", &change),
+            ("constraint residual ||Bu - phi||", &residual),
+        ],
+    )
+    .map_err(|e| Error::output("-plot_history", path, e))
+}
+
+/// The centre `-plot_contact` measures from: `-reference_center`, else the
+/// candidate with the smallest gap when one has it alone, else (a flat
+/// contact) the centre of the contact pressure.
+fn plot_center(s: &Settings, rows: &[ContactRow], d: usize) -> Vec<f64> {
+    let given = s
+        .contact_center
+        .as_deref()
+        .or(s.reference.as_ref().and_then(|r| r.center.as_deref()));
+    let gmin = rows.iter().map(|r| r.gap).fold(f64::INFINITY, f64::min);
+    let scale = rows
+        .iter()
+        .fold(0.0f64, |a, r| a.max(r.gap.abs()))
+        .max(1e-300);
+    let at_min = rows.iter().filter(|r| r.gap - gmin <= 1e-9 * scale).count();
+    let force: f64 = rows.iter().map(|r| r.weight * r.lambda_n).sum();
+    if given.is_some() || at_min <= 1 || force <= 0.0 {
+        return hertz::center(given, d, rows.iter().map(|r| (r.gap, &r.x[..])));
+    }
+    (0..d)
+        .map(|k| {
+            rows.iter()
+                .map(|r| r.weight * r.lambda_n * r.x[k])
+                .sum::<f64>()
+                / force
+        })
+        .collect()
+}
+
+/// `-plot_contact`: pressure, and with friction |lambda_t| and the bound s,
+/// along the surface (2D: a signed coordinate from the contact centre, so
+/// that both sides of an asymmetric contact show; 3D: the distance from
+/// it), with the Hertz curve under `-reference hertz`.
+fn plot_contact(path: &str, m: &Results) -> Result<(), Error> {
+    use plot::{plot_lines, Series, Style};
+    let (s, rows, d) = (m.settings, m.rows, m.local.dim);
+    let n = &m.problem.contact.n;
+    let center = plot_center(s, rows, d);
+    let coordinate = |r: &ContactRow| {
+        if d == 2 {
+            hertz::coordinate_2d(&r.x, &center, n)
+        } else {
+            hertz::distance(&r.x, &center, n)
+        }
+    };
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    order.sort_by(|&a, &b| coordinate(&rows[a]).total_cmp(&coordinate(&rows[b])));
+    let x: Vec<f64> = order.iter().map(|&i| coordinate(&rows[i])).collect();
+    let p: Vec<f64> = order.iter().map(|&i| rows[i].lambda_n).collect();
+    let lt: Vec<f64> = order
+        .iter()
+        .map(|&i| rows[i].lambda_t.iter().map(|v| v * v).sum::<f64>().sqrt())
+        .collect();
+    let bound: Vec<f64> = order.iter().map(|&i| rows[i].bound).collect();
+    let mut series = vec![Series {
+        label: "contact pressure lambda_n",
+        x: &x,
+        y: &p,
+        style: Style::Points,
+    }];
+    if s.friction != Friction::None {
+        series.push(Series {
+            label: "|tangential traction lambda_t|",
+            x: &x,
+            y: &lt,
+            style: Style::Points,
+        });
+        series.push(Series {
+            label: "friction bound s",
+            x: &x,
+            y: &bound,
+            style: Style::Line,
+        });
+    }
+    let (hx, hy): (Vec<f64>, Vec<f64>) = match &s.reference {
+        Some(r) => {
+            let (lo, hi) = (
+                x.first().copied().unwrap_or(0.0),
+                x.last().copied().unwrap_or(0.0),
+            );
+            (0..=400)
+                .map(|k| {
+                    let xi = lo + (hi - lo) * k as f64 / 400.0;
+                    let p = hertz::pressure(d, r.force, r.radius, s.e_star(d), xi.abs()).0;
+                    (xi, p)
+                })
+                .unzip()
+        }
+        None => (Vec::new(), Vec::new()),
+    };
+    if s.reference.is_some() {
+        series.push(Series {
+            label: "Hertz pressure",
+            x: &hx,
+            y: &hy,
+            style: Style::DashedLine,
+        });
+    }
+    let title = format!(
+        "Contact stresses ({}), {} candidates",
+        s.friction.name(),
+        rows.len()
+    );
+    let axis = if d == 2 {
+        "position along the surface from the contact centre (signed, orthogonal to n)"
+    } else {
+        "distance from the contact centre, orthogonal to n"
+    };
+    plot_lines(Path::new(path), &title, axis, "stress", &series, false)
+        .map_err(|e| Error::output("-plot_contact", path, e))
+}
+
+/// The fields of one rank's part of the mesh, for the ParaView files.
+struct PieceData {
+    /// The cells this rank writes (those whose smallest global node it
+    /// owns), with their fields.
+    cells: Vec<usize>,
+    stress: Vec<f64>,
+    von_mises: Vec<f64>,
+    /// Point fields at the local nodes.
+    disp: Vec<f64>,
+    pressure: Vec<f64>,
+    traction: Vec<f64>,
+    gap: Vec<f64>,
+    status: Vec<i32>,
+}
+
+/// The cells this rank writes with their stresses, and the point fields at
+/// its local nodes (`rows`: every candidate, on every rank).
+fn piece_data(s: &Settings, local: &LocalMesh, u_local: &[f64], rows: &[ContactRow]) -> PieceData {
+    let d = local.dim;
+    let k = d + 1;
+    // Cells this rank writes.
+    let mine: Vec<usize> = (0..local.num_cells())
+        .filter(|&c| {
+            let cell = &local.cells[c * k..(c + 1) * k];
+            let gmin = cell
+                .iter()
+                .map(|&v| local.node_global[v])
+                .min()
+                .unwrap_or(0);
+            gmin >= local.owned_start && gmin < local.owned_start + local.owned_count
+        })
+        .collect();
+    let mut cells = Vec::with_capacity(mine.len() * k);
+    let mut stress = Vec::with_capacity(mine.len() * 9);
+    let mut von_mises = Vec::with_capacity(mine.len());
+    let mut xs = vec![0.0; k * d];
+    let mut us = vec![0.0; k * d];
+    for &c in &mine {
+        let cell = &local.cells[c * k..(c + 1) * k];
+        for (a, &v) in cell.iter().enumerate() {
+            xs[a * d..(a + 1) * d].copy_from_slice(local.x(v));
+            us[a * d..(a + 1) * d].copy_from_slice(&u_local[v * d..(v + 1) * d]);
+        }
+        cells.extend_from_slice(cell);
+        let (sig, vm) = crate::fem::stress::cell_stress(d, &xs, &us, s.young, s.nu, s.plane_stress);
+        stress.extend_from_slice(&sig);
+        von_mises.push(vm);
+    }
+    // Contact fields at the nodes (-1 status: not a candidate).
+    let by_tag: std::collections::HashMap<u64, &ContactRow> =
+        rows.iter().map(|r| (r.node, r)).collect();
+    let npts = local.num_local_nodes();
+    let mut out = PieceData {
+        cells,
+        stress,
+        von_mises,
+        disp: vec![0.0; npts * 3],
+        pressure: vec![0.0; npts],
+        traction: vec![0.0; npts * 3],
+        gap: vec![0.0; npts],
+        status: vec![-1i32; npts],
+    };
+    for v in 0..npts {
+        out.disp[v * 3..v * 3 + d].copy_from_slice(&u_local[v * d..(v + 1) * d]);
+        if let Some(r) = by_tag.get(&local.node_tag[v]) {
+            out.pressure[v] = r.lambda_n;
+            out.traction[v * 3..v * 3 + 3].copy_from_slice(&r.lambda_t);
+            out.gap[v] = r.gap;
+            out.status[v] = r.status as i32;
+        }
+    }
+    out
+}
+
+/// `-vtk`: `FILE.vtu` (one file, gathered on rank 0) or `PATH.pvtu` (an
+/// index and a piece per rank). Both carry the node tag of the mesh file.
+pub fn write_vtk<C: Communicator>(
+    world: &C,
+    path: &str,
+    s: &Settings,
+    local: &LocalMesh,
+    u_local: &[f64],
+    rows: &[ContactRow],
+) -> Result<(), Error> {
+    let data = piece_data(s, local, u_local, rows);
+    let rank = world.rank();
+    let ranks = vec![rank; data.von_mises.len()];
+    if path.ends_with(".vtu") {
+        return write_gathered(world, path, local, &data, &ranks);
+    }
+    let bad_path = |e: std::io::Error| Error::output("-vtk", path, e);
+    let target = Path::new(path);
+    let stem_path = target.with_extension("");
+    let stem = stem_path
+        .file_name()
+        .map(|x| x.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "ubr".into());
+    let dir = stem_path
+        .parent()
+        .filter(|x| !x.as_os_str().is_empty())
+        .unwrap_or(Path::new("."))
+        .to_path_buf();
+    let piece = Piece {
+        dim: local.dim,
+        coords: &local.coords,
+        cells: &data.cells,
+        point_data: point_fields(&data, &local.node_tag),
+        cell_data: cell_fields(&data, &ranks),
+    };
+    let name = vtk::piece_file_name(&stem, rank as usize);
+    vtk::write_vtu(&dir.join(&name), &piece).map_err(bad_path)?;
+    if rank == 0 {
+        let names: Vec<String> = (0..world.size() as usize)
+            .map(|r| vtk::piece_file_name(&stem, r))
+            .collect();
+        vtk::write_pvtu(
+            &dir.join(format!("{stem}.pvtu")),
+            &names,
+            &piece.point_fields(),
+            &piece.cell_fields(),
+        )
+        .map_err(bad_path)?;
+    }
+    Ok(())
+}
+
+fn point_fields<'a>(p: &'a PieceData, tags: &'a [u64]) -> Vec<Field<'a>> {
+    vec![
+        Field::Vector("displacement", &p.disp),
+        Field::Scalar("contact_pressure", &p.pressure),
+        Field::Vector("tangential_traction", &p.traction),
+        Field::Scalar("gap", &p.gap),
+        Field::Int("contact_status", &p.status),
+        Field::Id("node_tag", tags),
+    ]
+}
+
+fn cell_fields<'a>(p: &'a PieceData, ranks: &'a [i32]) -> Vec<Field<'a>> {
+    vec![
+        Field::Tensor("stress", &p.stress),
+        Field::Scalar("von_mises", &p.von_mises),
+        Field::Int("rank", ranks),
+    ]
+}
+
+/// Every rank's `mine` concatenated in rank order on rank 0 (empty elsewhere).
+fn gather<C: Communicator, T: Equivalence + Clone>(world: &C, mine: &[T]) -> Vec<T> {
+    if world.rank() != 0 {
+        world.process_at_rank(0).send(mine);
+        return Vec::new();
+    }
+    let mut all = mine.to_vec();
+    for p in 1..world.size() {
+        let (v, _) = world.process_at_rank(p).receive_vec::<T>();
+        all.extend(v);
+    }
+    all
+}
+
+/// `-vtk FILE.vtu`: the owned nodes of every rank (in global order: the
+/// ranks own consecutive blocks) and the cells each writes, gathered on
+/// rank 0 into one file: each node once, each cell once.
+fn write_gathered<C: Communicator>(
+    world: &C,
+    path: &str,
+    local: &LocalMesh,
+    data: &PieceData,
+    ranks: &[i32],
+) -> Result<(), Error> {
+    let d = local.dim;
+    let own = local.owned_count;
+    let cells: Vec<u64> = data
+        .cells
+        .iter()
+        .map(|&v| local.node_global[v] as u64)
+        .collect();
+    let coords = gather(world, &local.coords[..own * d]);
+    let tags = gather(world, &local.node_tag[..own]);
+    let disp = gather(world, &data.disp[..own * 3]);
+    let traction = gather(world, &data.traction[..own * 3]);
+    let pressure = gather(world, &data.pressure[..own]);
+    let gap = gather(world, &data.gap[..own]);
+    let status = gather(world, &data.status[..own]);
+    let cells = gather(world, &cells);
+    let stress = gather(world, &data.stress);
+    let von_mises = gather(world, &data.von_mises);
+    let ranks = gather(world, ranks);
+    if world.rank() != 0 {
+        return Ok(());
+    }
+    let all = PieceData {
+        cells: cells.iter().map(|&v| v as usize).collect(),
+        stress,
+        von_mises,
+        disp,
+        pressure,
+        traction,
+        gap,
+        status,
+    };
+    let piece = Piece {
+        dim: d,
+        coords: &coords,
+        cells: &all.cells,
+        point_data: point_fields(&all, &tags),
+        cell_data: cell_fields(&all, &ranks),
+    };
+    vtk::write_vtu(Path::new(path), &piece).map_err(|e| Error::output("-vtk", path, e))
+}

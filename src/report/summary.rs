@@ -1,0 +1,285 @@
+//! The summary rank 0 prints at the end of a run: the scene, the algorithm
+//! and the r it used, the iterations, the contact, the optimality checks
+//! (each relative to a named scale), the forces, and the times.
+
+use super::Results;
+use crate::solver::penalty;
+use crate::solver::stopping::StopRule;
+
+/// "(1.5e0, -2.0e-3)": a vector for the summary.
+fn vector(v: &[f64]) -> String {
+    let parts: Vec<String> = v.iter().map(|x| format!("{x:.6e}")).collect();
+    format!("({})", parts.join(", "))
+}
+
+fn verdict(converged: bool) -> &'static str {
+    if converged {
+        "converged"
+    } else {
+        "NOT converged"
+    }
+}
+
+pub fn print(m: &Results) {
+    header(m);
+    algorithm(m);
+    iterations(m);
+    contact(m);
+    optimality(m);
+    forces(m);
+    if let Some(h) = &m.hertz {
+        println!(
+            "  hertz           pressure error L2 {:.4e}, relative {:.3}%",
+            h.error_l2,
+            100.0 * h.error_rel
+        );
+        println!(
+            "                  peak pressure {:.4} vs Hertz p0 {:.4}; contact half-width {:.4} vs Hertz {:.4}",
+            h.peak, h.peak_hertz, h.half_width, h.half_width_hertz
+        );
+    }
+    let t = &m.times;
+    println!(
+        "  time (s)        mesh {:.3}, partition {:.3}, assembly {:.3}, factorization {:.3}, iterations {:.3}, total {:.3}",
+        t.mesh, t.partition, t.assembly, t.factorization, t.iterations, t.total
+    );
+    println!(
+        "  memory (MiB)    peak {:.0} on rank 0, {:.0} on the largest rank, {:.0} in all",
+        m.memory[0], m.memory[1], m.memory[2]
+    );
+}
+
+fn header(m: &Results) {
+    let s = m.settings;
+    let local = m.local;
+    println!(
+        "ubr-petsc: Algorithm {} ({}), {} rank{}",
+        m.solved.name,
+        m.friction_name(),
+        m.ranks,
+        if m.ranks == 1 { "" } else { "s" }
+    );
+    println!("  mesh            {}", super::mesh_label(&s.mesh));
+    println!(
+        "                  {} nodes, {} {}, {} contact candidates",
+        local.global_nodes,
+        local.global_cells,
+        if local.dim == 2 {
+            "triangles"
+        } else {
+            "tetrahedra"
+        },
+        m.candidates
+    );
+    println!(
+        "  material        E = {}, nu = {}, {}",
+        s.young,
+        s.nu,
+        if local.dim == 3 {
+            "3D"
+        } else if s.plane_stress {
+            "plane stress"
+        } else {
+            "plane strain"
+        }
+    );
+    if s.friction != crate::options::Friction::None {
+        println!("  friction        nu_f = {}", s.friction_coefficient);
+    }
+    println!("  linear solver   {}", m.problem.lin.description);
+}
+
+/// Where r came from, for the summary.
+fn r_source(choice: Option<&penalty::Choice>) -> String {
+    match choice {
+        Some(c) if c.source == penalty::Source::Auto => {
+            let moved = if c.r == c.r0 {
+                "kept: within 3x of the estimate"
+            } else if c.refactorized {
+                "refactorized"
+            } else {
+                "moved without refactorization"
+            };
+            if c.estimate.is_finite() {
+                format!(
+                    "auto: spectral estimate {:.4e} from {} Lanczos solves, trial {:.4e} {moved}",
+                    c.estimate, c.steps, c.r0
+                )
+            } else {
+                format!(
+                    "auto: trial {:.4e} (too few candidates for an estimate)",
+                    c.r0
+                )
+            }
+        }
+        _ => "option -ubr_r".to_string(),
+    }
+}
+
+fn algorithm(m: &Results) {
+    let (s, res) = (m.settings, m.solved);
+    if res.name == "SNES-VI" {
+        println!(
+            "  iterations      {} Newton iterations of PETSc's vinewtonrsls ({} linear)",
+            res.iterations,
+            m.state.inner_iterations.iter().sum::<usize>()
+        );
+    } else if res.name == "SSN-C" {
+        let shift: Vec<String> = s.ssn_initial_shift.iter().map(|v| v.to_string()).collect();
+        println!(
+            "  r (SSN-C)       {} (r/E = {}), initial guess ({})",
+            s.ssn_r,
+            s.ssn_r / s.young,
+            if shift.is_empty() {
+                "0".to_string()
+            } else {
+                shift.join(",")
+            }
+        );
+        println!(
+            "  iterations      {}, {} (one factorization each)",
+            res.iterations,
+            if res.converged {
+                "converged: the active set repeated"
+            } else {
+                "NOT converged"
+            }
+        );
+    } else {
+        let r = m.problem.r();
+        println!(
+            "  r               {:.6e} (r/E = {:.4}; {})",
+            r,
+            r / s.young,
+            r_source(m.choice)
+        );
+        if let Some(rho) = s.ubr.rho {
+            println!("  rho             {rho} (-ubr_rho)");
+        }
+        if s.ubr.anderson > 0 {
+            println!(
+                "  Anderson        memory {} (safeguarded type II on z = lambda + r B u): {} of {} evaluations extrapolated, {} rejected",
+                s.ubr.anderson,
+                res.last.anderson_steps,
+                res.last.iterations,
+                res.last.anderson_rejected
+            );
+        } else {
+            println!("  Anderson        off (-ubr_anderson 0: the paper's plain iteration)");
+        }
+    }
+}
+
+fn iterations(m: &Results) {
+    let (s, res) = (m.settings, m.solved);
+    if res.frictionless_iterations > 0 {
+        println!(
+            "  frictionless    {} UBR iterations for the bound s = nu_f lambda_c",
+            res.frictionless_iterations
+        );
+    }
+    if res.fixed_point_iterations > 0 {
+        println!(
+            "  fixed point     {} iterations, {} Tresca iterations in total, {} (change of s {:.3e}, target {:.1e})",
+            res.fixed_point_iterations,
+            res.iterations,
+            verdict(res.converged),
+            res.fp_change.unwrap_or(f64::NAN),
+            s.ubr.fp_rtol
+        );
+    }
+    if !res.is_comparator() {
+        if s.ubr.stop == StopRule::Paper {
+            println!(
+                "  iterations      {}, {} (paper's test, last run: rel. change (4.16) {:.3e}, target {:.1e}; residual {:.3e}, target {:.1e})",
+                res.iterations, verdict(res.converged), res.last.criterion, s.ubr.rtol, res.last.residual, s.ubr.residual_tol
+            );
+        } else {
+            println!(
+                "  iterations      {}, {}: estimated error of lambda {:.3e} (relative, max norm; target {:.1e}); the paper's (4.16) {:.3e}",
+                res.iterations,
+                verdict(res.converged),
+                res.error_estimate.unwrap_or(f64::NAN),
+                s.ubr.lambda_rtol,
+                res.last.criterion
+            );
+        }
+        println!(
+            "  linear solves   {} (r choice included)",
+            m.problem.lin.solves
+        );
+    }
+    if m.problem.lin.iterative {
+        println!(
+            "  inner its       {} in total",
+            m.state.inner_iterations.iter().sum::<usize>()
+        );
+    }
+}
+
+fn contact(m: &Results) {
+    let t = &m.totals;
+    if m.problem.tangential {
+        println!(
+            "  contact         {} nodes in contact ({} stick, {} slip), total contact force {:.10e}",
+            t.in_contact, t.stick, t.slip, t.force
+        );
+        println!(
+            "                  tangential force {}",
+            vector(&t.tangential_force)
+        );
+    } else {
+        println!(
+            "  contact         {} nodes in contact, total contact force {:.10e}",
+            t.in_contact, t.force
+        );
+    }
+}
+
+/// The optimality conditions, each relative to the scale it names.
+fn optimality(m: &Results) {
+    let d = m.diag;
+    println!(
+        "  optimality      equilibrium {:.2e} (residual relative to the larger of the load and the contact forces)",
+        d.equilibrium_rel
+    );
+    println!(
+        "                  min lambda_n {:.2e}, max (u_n - g)^+ {:.2e}, |complementarity| {:.2e} (relative to max lambda_n, max(|g|, |u_n|), contact force x max(|g|, |u_n|))",
+        d.min_lambda_rel(),
+        d.penetration_rel(),
+        d.complementarity_rel()
+    );
+    if m.problem.tangential {
+        println!(
+            "  friction law    at the {} nodes in contact: max (|lambda_t| - s)^+ {:.2e} (relative to max s), slip at stick nodes {:.2e} (relative to max slip {:.3e}), min cos(u_t, lambda_t) at slip nodes {:.12}",
+            m.totals.in_contact,
+            d.friction_excess_rel(),
+            d.stick_slip_rel(),
+            d.max_slip,
+            d.min_slip_alignment
+        );
+    }
+}
+
+fn forces(m: &Results) {
+    let f = m.forces;
+    for (name, r) in &f.reactions {
+        println!("  reaction        {name}: {}", vector(r));
+    }
+    let nonzero = |v: &[f64]| v.iter().any(|x| *x != 0.0);
+    if !f.reactions.is_empty() || nonzero(&f.load) {
+        let scale = f
+            .contact
+            .iter()
+            .chain(&f.load)
+            .chain(f.reactions.iter().flat_map(|(_, r)| r))
+            .fold(0.0f64, |a, b| a.max(b.abs()));
+        let imbalance = f.imbalance().iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        println!(
+            "  forces          load {}, contact {}; balance {:.1e} (relative to the largest force)",
+            vector(&f.load),
+            vector(&f.contact),
+            if scale > 0.0 { imbalance / scale } else { 0.0 }
+        );
+    }
+}

@@ -1,0 +1,394 @@
+//! The checks of a returned solution: the discrete optimality conditions,
+//! each printed value relative to a named scale, and the friction law
+//! checked where it applies, at the nodes in contact (stick or slip).
+//!
+//! An open node may carry a leftover tangential traction of the last
+//! fixed-point step (its Coulomb bound nu_f lambda_n is then 0): it says
+//! nothing about the friction law, and is left out of its checks.
+
+use super::surface::UbrState;
+use super::{
+    allreduce_max, allreduce_max_n, allreduce_sum, allreduce_sum_vec, ContactTerms, Problem,
+};
+use crate::error::Error;
+use crate::fem;
+use crate::mesh::distribute::LocalMesh;
+use crate::options::{Friction, Settings};
+use crate::petsc::{sys, Gather, Vector};
+use mpi::traits::*;
+
+/// The discrete optimality conditions at the returned iterate.
+#[derive(Clone, Debug, Default)]
+pub struct Diagnostics {
+    /// `||K u - f + B^T W lambda||` on the free dofs, and relative to
+    /// `max(||f||, ||B^T W lambda||, ||A x_D||)` (the load, the contact
+    /// forces, or the load of the prescribed displacements).
+    pub equilibrium_abs: f64,
+    pub equilibrium_rel: f64,
+    pub load_norm: f64,
+    /// Smallest and largest lambda_n over the candidates.
+    pub min_lambda: f64,
+    pub max_lambda: f64,
+    /// `max (u_n - g)` over the candidates, and `max |g|`, `max |u_n|`.
+    pub max_penetration: f64,
+    pub max_abs_gap: f64,
+    pub max_abs_un: f64,
+    /// `sum w lambda_n (g - u_n)`, and `sum w |lambda_n|`.
+    pub complementarity: f64,
+    pub force_abs: f64,
+    /// Friction, at the nodes in contact: `max (|lambda_t| - s)`, and the
+    /// largest s there.
+    pub max_friction_excess: f64,
+    pub max_bound: f64,
+    /// Largest tangential slip |u_t| over the nodes in contact, and over
+    /// those that stick (with a bound above 1e-6 of the largest).
+    pub max_slip: f64,
+    pub max_stick_slip: f64,
+    /// Smallest cosine between u_t and lambda_t over the sliding nodes whose
+    /// slip exceeds 1e-6 of the largest (1: same direction, (2.9)).
+    pub min_slip_alignment: f64,
+}
+
+/// `a / b`, 0 when `b` is 0 (nothing to be relative to: nothing there).
+fn ratio(a: f64, b: f64) -> f64 {
+    if b > 0.0 {
+        a / b
+    } else {
+        0.0
+    }
+}
+
+impl Diagnostics {
+    /// `min lambda_n` relative to `max |lambda_n|` (0 when nonnegative).
+    pub fn min_lambda_rel(&self) -> f64 {
+        ratio(
+            self.min_lambda.min(0.0),
+            self.max_lambda.max(-self.min_lambda),
+        )
+    }
+    /// The length the normal checks are relative to: `max(|g|, |u_n|)`.
+    pub fn length(&self) -> f64 {
+        self.max_abs_gap.max(self.max_abs_un)
+    }
+    /// `max (u_n - g)^+` relative to [`Self::length`].
+    pub fn penetration_rel(&self) -> f64 {
+        ratio(self.max_penetration.max(0.0), self.length())
+    }
+    /// `|sum w lambda_n (g - u_n)|` relative to `sum w |lambda_n|` times
+    /// [`Self::length`] (the contact force times a length).
+    pub fn complementarity_rel(&self) -> f64 {
+        ratio(self.complementarity.abs(), self.force_abs * self.length())
+    }
+    /// `max (|lambda_t| - s)^+` at the nodes in contact, relative to max s.
+    pub fn friction_excess_rel(&self) -> f64 {
+        ratio(self.max_friction_excess.max(0.0), self.max_bound)
+    }
+    /// The slip of the sticking nodes relative to the largest slip.
+    pub fn stick_slip_rel(&self) -> f64 {
+        ratio(self.max_stick_slip, self.max_slip)
+    }
+}
+
+/// The equilibrium residual on the free dofs and its scale (both squared,
+/// this rank's sums).
+fn equilibrium(p: &Problem, st: &UbrState) -> Result<(f64, f64), Error> {
+    let d = p.dim;
+    let cs = &p.contact;
+    let au = p.lin.rhs0.duplicate()?;
+    p.lin.matrix.mult(&st.u, &au)?;
+    let r = if p.terms == ContactTerms::None {
+        0.0
+    } else {
+        p.lin.r_assembled()
+    };
+    let sums = au.write(|a| {
+        p.lin.rhs0.read(|b| {
+            p.load.read(|f| {
+                for (ai, bi) in a.iter_mut().zip(b) {
+                    *ai -= bi;
+                }
+                let mut c2 = 0.0;
+                for i in 0..cs.len() {
+                    let base = cs.node[i] * d;
+                    let w = cs.w[i];
+                    for c in 0..d {
+                        // remove r B^T W B u, add B^T W lambda
+                        let (bu, lam) = if p.tangential {
+                            (
+                                st.surface.un[i] * cs.n[c] + st.surface.ut[i * d + c],
+                                st.surface.stress_n[i] * cs.n[c] + st.surface.stress_t[i * d + c],
+                            )
+                        } else {
+                            (st.surface.un[i] * cs.n[c], st.surface.stress_n[i] * cs.n[c])
+                        };
+                        a[base + c] += w * (lam - r * bu);
+                    }
+                    // The scale: the contact forces, when the body is loaded
+                    // through a prescribed displacement only.
+                    c2 += (w * st.surface.stress_n[i]).powi(2);
+                    if p.tangential {
+                        for c in 0..d {
+                            c2 += (w * st.surface.stress_t[i * d + c]).powi(2);
+                        }
+                    }
+                }
+                let (mut eq2, mut f2, mut l2) = (0.0, 0.0, 0.0);
+                for (i, ai) in a.iter().enumerate() {
+                    if !p.is_dirichlet[i] {
+                        eq2 += ai * ai;
+                        f2 += f[i] * f[i];
+                        // Loaded by prescribed displacements: their lifting load.
+                        l2 += b[i] * b[i];
+                    }
+                }
+                (eq2, f2.max(c2).max(l2))
+            })
+        })
+    })???;
+    Ok(sums)
+}
+
+/// The friction bound the friction law is checked against: s for Tresca,
+/// nu_f |lambda_n| of the returned solution for Coulomb.
+pub fn friction_bound(settings: &Settings, st: &UbrState, bound: &[f64]) -> Vec<f64> {
+    if settings.friction == Friction::Coulomb {
+        st.surface
+            .stress_n
+            .iter()
+            .map(|l| settings.friction_coefficient * l.abs())
+            .collect()
+    } else {
+        bound.to_vec()
+    }
+}
+
+/// The friction checks over the nodes in contact: (excess, max s, max slip,
+/// max slip at stick, min cosine at slip), global.
+#[allow(clippy::needless_range_loop)] // per-candidate arrays indexed together
+fn friction<C: Communicator>(world: &C, p: &Problem, st: &UbrState, bound: &[f64]) -> [f64; 5] {
+    let d = p.dim;
+    let sf = &st.surface;
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let touching = |i: usize| sf.in_contact[i];
+    let mut local_bound = 0.0f64;
+    for i in (0..p.contact.len()).filter(|&i| touching(i)) {
+        local_bound = local_bound.max(bound[i]);
+    }
+    let max_bound = allreduce_max(world, local_bound);
+    // Where the bound is meaningful: s above 1e-6 of the largest.
+    let meaningful = |i: usize| touching(i) && bound[i] > 1e-6 * max_bound;
+    let (mut excess, mut max_slip, mut stick_slip) = (f64::NEG_INFINITY, 0.0f64, 0.0f64);
+    for i in (0..p.contact.len()).filter(|&i| touching(i)) {
+        let slip = norm(&sf.ut[i * d..(i + 1) * d]);
+        max_slip = max_slip.max(slip);
+        if !sf.slip[i] && meaningful(i) {
+            stick_slip = stick_slip.max(slip);
+        }
+        excess = excess.max(norm(&sf.stress_t[i * d..(i + 1) * d]) - bound[i]);
+    }
+    let [excess, max_slip, stick_slip] = allreduce_max_n(world, [excess, max_slip, stick_slip]);
+    let mut min_cos = 1.0f64;
+    for i in (0..p.contact.len()).filter(|&i| meaningful(i) && sf.slip[i]) {
+        let ut = &sf.ut[i * d..(i + 1) * d];
+        let lt = &sf.stress_t[i * d..(i + 1) * d];
+        let (nu, nl) = (norm(ut), norm(lt));
+        if nu > 1e-6 * max_slip && nl > 0.0 {
+            let dot: f64 = ut.iter().zip(lt).map(|(a, b)| a * b).sum();
+            min_cos = min_cos.min(dot / (nu * nl));
+        }
+    }
+    let min_cos = -allreduce_max(world, -min_cos);
+    let excess = if excess.is_finite() { excess } else { 0.0 };
+    [excess, max_bound, max_slip, stick_slip, min_cos]
+}
+
+/// The discrete optimality conditions at the returned iterate; `bound` is
+/// the friction bound per owned candidate ([`friction_bound`]; empty
+/// without friction).
+pub fn diagnostics<C: Communicator>(
+    world: &C,
+    p: &Problem,
+    st: &UbrState,
+    bound: &[f64],
+) -> Result<Diagnostics, Error> {
+    let (eq2, f2) = equilibrium(p, st)?;
+    let cs = &p.contact;
+    let sf = &st.surface;
+    let mut lo = [f64::NEG_INFINITY; 5]; // -min lambda, max lambda, max pen., max |g|, max |u_n|
+    let mut compl = 0.0;
+    let mut force = 0.0;
+    for i in 0..cs.len() {
+        let (l, un, g) = (sf.stress_n[i], sf.un[i], cs.g[i]);
+        lo[0] = lo[0].max(-l);
+        lo[1] = lo[1].max(l);
+        lo[2] = lo[2].max(un - g);
+        lo[3] = lo[3].max(g.abs());
+        lo[4] = lo[4].max(un.abs());
+        compl += cs.w[i] * l * (g - un);
+        force += cs.w[i] * l.abs();
+    }
+    let [eq2, f2, compl, force] = allreduce_sum(world, [eq2, f2, compl, force]);
+    let m = allreduce_max_n(world, lo);
+    let [excess, max_bound, max_slip, stick_slip, min_cos] = if p.tangential && !bound.is_empty() {
+        friction(world, p, st, bound)
+    } else {
+        [0.0, 0.0, 0.0, 0.0, 1.0]
+    };
+    Ok(Diagnostics {
+        equilibrium_abs: eq2.sqrt(),
+        equilibrium_rel: if f2 > 0.0 {
+            (eq2 / f2).sqrt()
+        } else {
+            eq2.sqrt()
+        },
+        load_norm: f2.sqrt(),
+        min_lambda: -m[0],
+        max_lambda: m[1],
+        max_penetration: m[2],
+        max_abs_gap: m[3].max(0.0),
+        max_abs_un: m[4].max(0.0),
+        complementarity: compl,
+        force_abs: force,
+        max_friction_excess: excess,
+        max_bound,
+        max_slip,
+        max_stick_slip: stick_slip,
+        min_slip_alignment: min_cos,
+    })
+}
+
+/// A direct solve of a singular matrix (a rigid motion nothing holds, e.g. a
+/// sideways load on a frictionless body) does not always fail: the
+/// equilibrium of the answer tells. The message of such a run, if it is one.
+pub fn singular(p: &Problem, diag: &Diagnostics, name: &str, iterations: usize) -> Option<String> {
+    (!p.lin.iterative && diag.equilibrium_rel > 1e-4).then(|| format!(
+        "{name} stopped after {iterations} iterations: the answer violates equilibrium (relative residual {:.1e}): the body is not held: a rigid-body motion is free or the loads pull it off the obstacle; check the Dirichlet conditions, the loads and the obstacle",
+        diag.equilibrium_rel
+    ))
+}
+
+/// `u` at every local node (owned and ghost), node-major (collective).
+pub fn local_displacement(local: &LocalMesh, u: &Vector) -> Result<Vec<f64>, Error> {
+    let d = local.dim;
+    let idx: Vec<sys::PetscInt> = local
+        .node_global
+        .iter()
+        .flat_map(|&g| (0..d).map(move |c| (g * d + c) as sys::PetscInt))
+        .collect();
+    let gather = Gather::new(u, &idx)?;
+    gather.gather(u)?;
+    gather.local.read(|v| v.to_vec())
+}
+
+/// The forces on the body, summed over all ranks.
+#[derive(Clone, Debug, Default)]
+pub struct Forces {
+    /// What the obstacle exerts, `-sum w (lambda_n n + lambda_t)`.
+    pub contact: Vec<f64>,
+    /// The applied loads: tractions, pressures, body force.
+    pub load: Vec<f64>,
+    /// The reaction force of each Dirichlet group (by its name), which its
+    /// prescribed components exert: `K u - f + B^T W lambda` summed over
+    /// them (a component prescribed by two groups counts for the first).
+    pub reactions: Vec<(String, Vec<f64>)>,
+}
+
+impl Forces {
+    /// `contact + load + sum of reactions`: zero at equilibrium.
+    pub fn imbalance(&self) -> Vec<f64> {
+        let mut s: Vec<f64> = self
+            .contact
+            .iter()
+            .zip(&self.load)
+            .map(|(a, b)| a + b)
+            .collect();
+        for (_, r) in &self.reactions {
+            s.iter_mut().zip(r).for_each(|(a, b)| *a += b);
+        }
+        s
+    }
+}
+
+/// The contact force, the total load and the reaction of each Dirichlet
+/// group; `u_local` from [`local_displacement`].
+pub fn forces<C: Communicator>(
+    world: &C,
+    local: &LocalMesh,
+    settings: &Settings,
+    p: &Problem,
+    st: &UbrState,
+    u_local: &[f64],
+) -> Result<Forces, Error> {
+    let d = p.dim;
+    let cs = &p.contact;
+    let nown = local.owned_count * d;
+    let load = p.load.read(|f| f.to_vec())?;
+    // Each prescribed owned dof, to the first group (by name) that prescribes it.
+    let mut owner = vec![usize::MAX; nown];
+    for (g, bc) in settings.dirichlet.iter().enumerate() {
+        let group = local.group(&bc.group).expect("checked at assembly");
+        for &v in group.conn.iter().filter(|&&v| local.is_owned(v)) {
+            for &(c, _) in &bc.comps {
+                if owner[v * d + c] == usize::MAX {
+                    owner[v * d + c] = g;
+                }
+            }
+        }
+    }
+    let wanted: Vec<bool> = owner.iter().map(|&g| g != usize::MAX).collect();
+    let mut r = fem::loads::stiffness_rows(local, settings, u_local, &wanted);
+    let mut contact = vec![0.0; d];
+    for i in 0..cs.len() {
+        let w = cs.w[i];
+        for c in 0..d {
+            let mut lam = st.surface.stress_n[i] * cs.n[c];
+            if p.tangential {
+                lam += st.surface.stress_t[i * d + c];
+            }
+            r[cs.node[i] * d + c] += w * lam;
+            contact[c] -= w * lam;
+        }
+    }
+    let mut sums = vec![0.0; d * (settings.dirichlet.len() + 1)];
+    for (i, &g) in owner.iter().enumerate() {
+        sums[i % d] += load[i];
+        if g != usize::MAX {
+            sums[(g + 1) * d + i % d] += r[i] - load[i];
+        }
+    }
+    let sums = allreduce_sum_vec(world, &sums);
+    let contact = allreduce_sum_vec(world, &contact);
+    Ok(Forces {
+        contact,
+        load: sums[..d].to_vec(),
+        reactions: settings
+            .dirichlet
+            .iter()
+            .enumerate()
+            .map(|(g, bc)| (bc.group.clone(), sums[(g + 1) * d..(g + 2) * d].to_vec()))
+            .collect(),
+    })
+}
+
+/// Set-ups that are probably wrong, found before the solve (one line each).
+pub fn setup_warnings<C: Communicator>(
+    _world: &C,
+    _local: &LocalMesh,
+    _settings: &Settings,
+    _dirichlet: &[(usize, f64)],
+    _cs: &crate::contact::ContactSet,
+) -> Result<Vec<String>, Error> {
+    Ok(Vec::new())
+}
+
+/// Results that say the set-up is probably wrong (one line each).
+pub fn result_warnings<C: Communicator>(
+    _world: &C,
+    _local: &LocalMesh,
+    _settings: &Settings,
+    _p: &Problem,
+    _st: &UbrState,
+    _u_local: &[f64],
+) -> Result<Vec<String>, Error> {
+    Ok(Vec::new())
+}
