@@ -11,7 +11,7 @@ use crate::mesh::{self, distribute, distribute::LocalMesh, Mesh};
 use crate::options::{self, unused::Unused, Friction, MeshSource, Settings};
 use crate::petsc::{self, Events, Stages};
 use crate::report::{self, files, ContactRow, Results, Times, Totals};
-use crate::solver::checks::{self, Diagnostics, Forces};
+use crate::solver::checks::{self, Deformation, Diagnostics, Forces};
 use crate::solver::outcome::{self, Solved};
 use crate::solver::surface::UbrState;
 use crate::solver::wellposed::{self, Restraint};
@@ -73,6 +73,7 @@ struct Checked {
     rows: Vec<ContactRow>,
     /// Set when the answer violates equilibrium (a singular matrix).
     singular: Option<String>,
+    shape: Deformation,
 }
 
 fn load_mesh(source: &MeshSource) -> Result<Mesh, Error> {
@@ -320,8 +321,8 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let forces = checks::forces(world, local, s, problem, &sol.state, &u_local)?;
         let rows = report::contact_rows(local, problem, &sol.state, &sol.solved.bound);
         let rows = report::gather_rows(world, &rows);
-        let warnings = checks::result_warnings(world, local, s, problem, &sol.state, &u_local)?;
-        for w in warnings {
+        let shape = checks::deformation(world, local, &u_local);
+        for w in checks::result_warnings(world, local, s, &sol.state, &shape) {
             self.warn(w);
         }
         Ok(Checked {
@@ -330,6 +331,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             u_local,
             rows,
             singular,
+            shape,
         })
     }
 
@@ -369,6 +371,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                 state: &sol.state,
                 diag: &checked.diag,
                 forces: &checked.forces,
+                shape: &checked.shape,
                 rows: &checked.rows,
                 totals: Totals::of(&checked.rows, d),
                 hertz,

@@ -1,7 +1,7 @@
 //! `ubr-petsc`: options -> scene -> run -> report. See `app::run`.
 
 use mpi::traits::*;
-use ubr_petsc::{app, petsc::Petsc};
+use ubr_petsc::{app, options, petsc::Petsc};
 
 fn main() {
     let Some(universe) = mpi::initialize() else {
@@ -15,6 +15,16 @@ fn main() {
         eprintln!("internal error (bug): {info}");
         mpi::topology::SimpleCommunicator::world().abort(70);
     }));
+    // A missing options file: one line and exit status 2, before PETSc
+    // (which would end in a traceback). Every rank sees the same arguments.
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(msg) = options::unreadable_options_file(&args) {
+        if rank == 0 {
+            eprintln!("error: {msg}");
+        }
+        drop(universe);
+        std::process::exit(2);
+    }
     let code = {
         let petsc = match Petsc::init(world.as_raw()) {
             Ok(p) => p,

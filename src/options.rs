@@ -296,7 +296,9 @@ fn contact(notes: &mut Vec<String>) -> Result<Option<ContactSettings>, Error> {
             joined(&direction)
         ));
     }
-    if norm != 1.0 {
+    // Within 1e-6 of unit length (digits of a typed unit vector) it is used
+    // as given; up to UNIT_TOLERANCE it is normalised, and the user told.
+    if (norm - 1.0).abs() > 1e-6 {
         let given = joined(&direction);
         direction.iter_mut().for_each(|v| *v /= norm);
         notes.push(format!(
@@ -587,4 +589,49 @@ impl Settings {
             self.young / (1.0 - self.nu * self.nu)
         }
     }
+}
+
+/// The options files named by `-options_file` (on the command line, in
+/// `PETSC_OPTIONS`, or in such a file) that cannot be read, as the one-line
+/// message of exit status 2. Checked before PETSc starts, which would
+/// otherwise end in a traceback.
+pub fn unreadable_options_file(args: &[String]) -> Option<String> {
+    let env = std::env::var("PETSC_OPTIONS").unwrap_or_default();
+    let mut queue: Vec<(String, String)> = Vec::new();
+    let scan = |words: Vec<String>, from: &str, queue: &mut Vec<(String, String)>| {
+        for w in words.windows(2) {
+            if w[0] == "-options_file" {
+                queue.push((w[1].clone(), from.to_string()));
+            }
+        }
+    };
+    scan(args.to_vec(), "the command line", &mut queue);
+    scan(
+        env.split_whitespace().map(String::from).collect(),
+        "PETSC_OPTIONS",
+        &mut queue,
+    );
+    let mut seen = Vec::new();
+    while let Some((file, from)) = queue.pop() {
+        if seen.contains(&file) {
+            continue;
+        }
+        match std::fs::read_to_string(&file) {
+            Ok(text) => {
+                let words = text
+                    .lines()
+                    .map(|l| l.split('#').next().unwrap_or(""))
+                    .flat_map(|l| l.split_whitespace().map(String::from))
+                    .collect();
+                scan(words, &file, &mut queue);
+            }
+            Err(e) => {
+                return Some(format!(
+                    "option -options_file: cannot read '{file}' (named in {from}): {e}"
+                ))
+            }
+        }
+        seen.push(file);
+    }
+    None
 }

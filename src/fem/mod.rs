@@ -4,6 +4,7 @@
 //! Global degrees of freedom are node-major: dof `dim * node + component`, with
 //! the renumbered (rank-contiguous) global node numbers of `LocalMesh`.
 
+pub mod deformation;
 pub mod loads;
 pub mod stress;
 

@@ -93,6 +93,9 @@ pub struct Report {
     pub max_stick_slip: f64,
     pub max_stick_slip_rel: f64,
     pub min_slip_alignment: f64,
+    /// The largest principal strain, and the cells inverted in x + u.
+    pub max_strain: f64,
+    pub inverted_elements: usize,
     pub matrix_mallocs: f64,
     pub peak_memory_rank0_mb: f64,
     pub peak_memory_max_mb: f64,
@@ -184,6 +187,8 @@ impl Report {
             max_stick_slip: d.max_stick_slip,
             max_stick_slip_rel: d.stick_slip_rel(),
             min_slip_alignment: d.min_slip_alignment,
+            max_strain: m.shape.max_strain,
+            inverted_elements: m.shape.inverted,
             matrix_mallocs: p.matrix_mallocs,
             peak_memory_rank0_mb: m.memory[0],
             peak_memory_max_mb: m.memory[1],

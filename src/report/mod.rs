@@ -14,7 +14,7 @@ pub mod vtk;
 use crate::contact::hertz;
 use crate::mesh::distribute::LocalMesh;
 use crate::options::{Friction, HertzReference, MeshSource, Settings};
-use crate::solver::checks::{Diagnostics, Forces};
+use crate::solver::checks::{Deformation, Diagnostics, Forces};
 use crate::solver::outcome::Solved;
 use crate::solver::surface::UbrState;
 use crate::solver::{penalty, Problem};
@@ -178,6 +178,7 @@ pub struct Results<'a> {
     pub state: &'a UbrState,
     pub diag: &'a Diagnostics,
     pub forces: &'a Forces,
+    pub shape: &'a Deformation,
     /// Every candidate, gathered, sorted by node tag.
     pub rows: &'a [ContactRow],
     pub totals: Totals,

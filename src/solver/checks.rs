@@ -8,8 +8,10 @@
 
 use super::surface::UbrState;
 use super::{
-    allreduce_max, allreduce_max_n, allreduce_sum, allreduce_sum_vec, ContactTerms, Problem,
+    allreduce_count, allreduce_max, allreduce_max_n, allreduce_sum, allreduce_sum_vec,
+    ContactTerms, Problem,
 };
+use crate::contact::ContactSet;
 use crate::error::Error;
 use crate::fem;
 use crate::mesh::distribute::LocalMesh;
@@ -370,25 +372,174 @@ pub fn forces<C: Communicator>(
     })
 }
 
-/// Set-ups that are probably wrong, found before the solve (one line each).
+/// The model is small-deformation: strains above this are warned about.
+pub const STRAIN_LIMIT: f64 = 0.05;
+
+/// Set-ups that are probably wrong, found before the solve (one line each):
+/// a Dirichlet condition along n on contact candidates, a traction on the
+/// components a Dirichlet condition prescribes at the same nodes.
 pub fn setup_warnings<C: Communicator>(
-    _world: &C,
-    _local: &LocalMesh,
-    _settings: &Settings,
-    _dirichlet: &[(usize, f64)],
-    _cs: &crate::contact::ContactSet,
+    world: &C,
+    local: &LocalMesh,
+    settings: &Settings,
+    dirichlet: &[(usize, f64)],
+    cs: &ContactSet,
 ) -> Result<Vec<String>, Error> {
-    Ok(Vec::new())
+    let d = local.dim;
+    let mut fixed = vec![false; local.owned_count * d];
+    for &(i, _) in dirichlet {
+        fixed[i] = true;
+    }
+    let mut out = Vec::new();
+    // Candidates whose prescribed components have a part along n.
+    let along_n = |v: usize| {
+        (0..d)
+            .filter(|&c| fixed[v * d + c])
+            .map(|c| cs.n[c].powi(2))
+            .sum::<f64>()
+            > 1e-6
+    };
+    let mut counts = vec![0.0; settings.dirichlet.len()];
+    for (g, bc) in settings.dirichlet.iter().enumerate() {
+        let Some(group) = local.group(&bc.group) else {
+            continue;
+        };
+        let nodes: std::collections::HashSet<usize> = group.conn.iter().copied().collect();
+        counts[g] = cs
+            .node
+            .iter()
+            .filter(|&&v| nodes.contains(&v) && along_n(v))
+            .count() as f64;
+    }
+    let counts = allreduce_sum_vec(world, &counts);
+    let surface = settings
+        .contact
+        .as_ref()
+        .map(|c| c.surface_names())
+        .unwrap_or_default();
+    for (bc, &n) in settings
+        .dirichlet
+        .iter()
+        .zip(&counts)
+        .filter(|(_, &n)| n > 0.0)
+    {
+        out.push(format!(
+            "-dirichlet_{} prescribes the displacement along the contact direction n at {n} contact candidates of '{surface}': there the contact condition cannot act (a Dirichlet condition on the contact surface)",
+            bc.group
+        ));
+    }
+    // Tractions on components prescribed at (most of) the group's nodes.
+    for t in &settings.traction {
+        let Some(group) = local.group(&t.group) else {
+            continue;
+        };
+        let mut nodes: Vec<usize> = group
+            .conn
+            .iter()
+            .copied()
+            .filter(|&v| local.is_owned(v))
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        for c in (0..d).filter(|&c| t.traction.get(c).is_some_and(|&x| x != 0.0)) {
+            let held = nodes.iter().filter(|&&v| fixed[v * d + c]).count();
+            let [held, total] = allreduce_sum(world, [held as f64, nodes.len() as f64]);
+            if total > 0.0 && held > 0.5 * total {
+                out.push(format!(
+                    "-traction_{} acts on u{}, which a Dirichlet condition prescribes at {held} of its {total} nodes: that load goes into the support and moves nothing",
+                    t.group,
+                    ["x", "y", "z"][c]
+                ));
+            }
+        }
+    }
+    Ok(out)
 }
 
-/// Results that say the set-up is probably wrong (one line each).
+/// How far the answer is from small deformations.
+#[derive(Clone, Debug, Default)]
+pub struct Deformation {
+    /// The largest principal strain (absolute value) over the cells.
+    pub max_strain: f64,
+    /// Cells whose deformed shape `x + u` is inverted.
+    pub inverted: usize,
+}
+
+/// The strain and inversion of every cell, each counted by the rank that
+/// owns its smallest global node.
+pub fn deformation<C: Communicator>(world: &C, local: &LocalMesh, u_local: &[f64]) -> Deformation {
+    let d = local.dim;
+    let k = d + 1;
+    let (mut xs, mut us) = (vec![0.0; k * d], vec![0.0; k * d]);
+    let (mut max_strain, mut inverted) = (0.0f64, 0usize);
+    for cell in local.cells.chunks(k) {
+        let first = cell.iter().min_by_key(|&&v| local.node_global[v]);
+        if !first.is_some_and(|&v| local.is_owned(v)) {
+            continue;
+        }
+        for (a, &v) in cell.iter().enumerate() {
+            xs[a * d..(a + 1) * d].copy_from_slice(local.x(v));
+            us[a * d..(a + 1) * d].copy_from_slice(&u_local[v * d..(v + 1) * d]);
+        }
+        let (e, inv) = fem::deformation::cell_deformation(d, &xs, &us);
+        max_strain = max_strain.max(e);
+        inverted += usize::from(inv);
+    }
+    Deformation {
+        max_strain: allreduce_max(world, max_strain),
+        inverted: allreduce_count(world, inverted),
+    }
+}
+
+/// Results that say the set-up is probably wrong (one line each): nothing
+/// in contact with the obstacle behind the body along n; strains beyond
+/// small deformations, or inverted cells.
 pub fn result_warnings<C: Communicator>(
-    _world: &C,
-    _local: &LocalMesh,
-    _settings: &Settings,
-    _p: &Problem,
-    _st: &UbrState,
-    _u_local: &[f64],
-) -> Result<Vec<String>, Error> {
-    Ok(Vec::new())
+    world: &C,
+    local: &LocalMesh,
+    settings: &Settings,
+    st: &UbrState,
+    shape: &Deformation,
+) -> Vec<String> {
+    let mut out = Vec::new();
+    let d = local.dim;
+    let in_contact = allreduce_count(world, st.surface.in_contact.iter().filter(|&&c| c).count());
+    if let (0, Some(contact)) = (in_contact, &settings.contact) {
+        // The body's centre (mean of its nodes) against the obstacle.
+        let mut sums = vec![0.0; d + 1];
+        for v in 0..local.owned_count {
+            sums.iter_mut().zip(local.x(v)).for_each(|(s, x)| *s += x);
+            sums[d] += 1.0;
+        }
+        let sums = allreduce_sum_vec(world, &sums);
+        let ahead: f64 = (0..d)
+            .map(|c| (contact.obstacle.anchor()[c] - sums[c] / sums[d]) * contact.direction[c])
+            .sum();
+        if ahead < 0.0 {
+            let flipped: Vec<String> = contact
+                .direction
+                .iter()
+                .map(|v| (-v + 0.0).to_string())
+                .collect();
+            out.push(format!(
+                "no node is in contact, and the obstacle lies behind the body along the contact direction n: n must point from the body toward the obstacle (did you mean -contact_direction {}?)",
+                flipped.join(",")
+            ));
+        }
+    }
+    if shape.inverted > 0 {
+        out.push(format!(
+            "{} of {} elements invert in the deformed shape x + u (largest strain {:.0}%): the model is linear elasticity, for small deformations, and this answer is not physical; reduce the load or the prescribed displacement",
+            shape.inverted,
+            local.global_cells,
+            100.0 * shape.max_strain
+        ));
+    } else if shape.max_strain > STRAIN_LIMIT {
+        out.push(format!(
+            "the largest strain is {:.1}% (above {:.0}%): the model is linear elasticity, for small deformations; at such strains its answer departs from a large-deformation one",
+            100.0 * shape.max_strain,
+            100.0 * STRAIN_LIMIT
+        ));
+    }
+    out
 }

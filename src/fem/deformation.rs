@@ -1,0 +1,72 @@
+//! How far a solution is from the small deformations the model assumes:
+//! the strain of a cell and whether its deformed shape `x + u` is inverted.
+//! With `J` the cell's edge matrix (columns `x_a - x_0`) and `J'` the
+//! deformed one, `grad u = (J' - J) J^-1` and the cell inverts where
+//! `det J'` and `det J` differ in sign.
+
+use nalgebra::{SMatrix, SymmetricEigen};
+
+macro_rules! deformation {
+    ($d:literal, $x:expr, $u:expr) => {{
+        let (x, u) = ($x, $u);
+        let j = SMatrix::<f64, $d, $d>::from_fn(|r, c| x[(c + 1) * $d + r] - x[r]);
+        let jd = SMatrix::<f64, $d, $d>::from_fn(|r, c| {
+            x[(c + 1) * $d + r] + u[(c + 1) * $d + r] - x[r] - u[r]
+        });
+        match j.try_inverse() {
+            None => (0.0, false),
+            Some(inv) => {
+                let grad = (jd - j) * inv;
+                let strain = (grad + grad.transpose()) * 0.5;
+                let largest = SymmetricEigen::new(strain)
+                    .eigenvalues
+                    .iter()
+                    .fold(0.0f64, |a: f64, e| a.max(e.abs()));
+                (largest, j.determinant() * jd.determinant() <= 0.0)
+            }
+        }
+    }};
+}
+
+/// The largest principal strain (absolute value) of a simplex cell and
+/// whether its deformed shape is inverted; `x`, `u`: `dim` values per vertex.
+pub fn cell_deformation(dim: usize, x: &[f64], u: &[f64]) -> (f64, bool) {
+    if dim == 2 {
+        deformation!(2, x, u)
+    } else {
+        deformation!(3, x, u)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stretch_and_inversion() {
+        let x = [0.0, 0.0, 1.0, 0.0, 0.0, 1.0];
+        // u = (0.1 x, 0): 10% strain, not inverted.
+        let (e, inv) = cell_deformation(2, &x, &[0.0, 0.0, 0.1, 0.0, 0.0, 0.0]);
+        assert!((e - 0.1).abs() < 1e-14 && !inv);
+        // A rigid rotation by a small angle: strain of second order only.
+        let t: f64 = 1e-4;
+        let u: Vec<f64> = x
+            .chunks(2)
+            .flat_map(|p| {
+                [
+                    p[0] * (t.cos() - 1.0) - p[1] * t.sin(),
+                    p[0] * t.sin() + p[1] * (t.cos() - 1.0),
+                ]
+            })
+            .collect();
+        assert!(cell_deformation(2, &x, &u).0 < 1e-7);
+        // Push vertex 1 across the opposite edge: inverted.
+        let (_, inv) = cell_deformation(2, &x, &[0.0, 0.0, -1.5, 0.0, 0.0, 0.0]);
+        assert!(inv);
+        let x3 = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+        let mut u3 = [0.0; 12];
+        u3[11] = -0.2; // vertex 3 down by 0.2: 20% compression
+        let (e, inv) = cell_deformation(3, &x3, &u3);
+        assert!((e - 0.2).abs() < 1e-14 && !inv);
+    }
+}
