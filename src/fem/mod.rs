@@ -1,9 +1,12 @@
-//! P1 linear elasticity: element kernels, the distributed stiffness matrix with
-//! exact preallocation, surface tractions, lumped mass and Dirichlet data.
+//! Linear elasticity: element kernels (P1 here, Q1 in [`element`]), the
+//! distributed stiffness matrix with exact preallocation, surface
+//! tractions, lumped mass and Dirichlet data. Cells of any supported kind
+//! may be mixed (triangles with quadrilaterals, tetrahedra with hexahedra).
 //!
 //! Global degrees of freedom are node-major: dof `dim * node + component`, with
 //! the renumbered (rank-contiguous) global node numbers of `LocalMesh`.
 
+pub mod element;
 pub mod stress;
 
 use crate::error::{bad, Error};
@@ -97,45 +100,25 @@ pub fn stiffness_3d(x: &[[f64; 3]; 4], d: &SMatrix<f64, 6, 6>) -> (SMatrix<f64, 
     (b.transpose() * d * b * vol, vol)
 }
 
-/// Measure of a simplex facet given its vertex coordinates (point: 1, segment: length, triangle: area).
+/// Measure of a facet given its vertex coordinates (point: 1, segment:
+/// length, triangle: area, quadrilateral: area of its bilinear surface):
+/// the sum of its nodal weights [`element::facet_weights`].
 pub fn facet_measure(pts: &[&[f64]]) -> f64 {
-    match pts.len() {
-        1 => 1.0,
-        2 => pts[0]
-            .iter()
-            .zip(pts[1])
-            .map(|(a, b)| (b - a) * (b - a))
-            .sum::<f64>()
-            .sqrt(),
-        3 => {
-            let mut u = [0.0; 3];
-            let mut v = [0.0; 3];
-            for k in 0..pts[0].len() {
-                u[k] = pts[1][k] - pts[0][k];
-                v[k] = pts[2][k] - pts[0][k];
-            }
-            let c = [
-                u[1] * v[2] - u[2] * v[1],
-                u[2] * v[0] - u[0] * v[2],
-                u[0] * v[1] - u[1] * v[0],
-            ];
-            0.5 * (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt()
-        }
-        _ => 0.0,
-    }
+    let mut w = Vec::with_capacity(4);
+    element::facet_weights(pts, &mut w);
+    w.iter().sum()
 }
 
 /// The neighbours of each owned node (the nodes it shares a cell with,
 /// itself included), in compressed rows sorted by global number: the
 /// neighbours of owned node a are `nbr[ptr[a]..ptr[a + 1]]` (local numbers).
 fn node_adjacency(mesh: &LocalMesh) -> (Vec<usize>, Vec<u32>) {
-    let k = mesh.dim + 1;
     let nown = mesh.owned_count;
     let mut count = vec![1usize; nown]; // itself
-    for cell in mesh.cells.chunks(k) {
+    for cell in &mesh.cells {
         for &a in cell {
             if a < nown {
-                count[a] += k - 1;
+                count[a] += cell.len() - 1;
             }
         }
     }
@@ -149,7 +132,7 @@ fn node_adjacency(mesh: &LocalMesh) -> (Vec<usize>, Vec<u32>) {
         nbr[fill[a]] = a as u32;
         fill[a] += 1;
     }
-    for cell in mesh.cells.chunks(k) {
+    for cell in &mesh.cells {
         for &a in cell {
             if a < nown {
                 for &b in cell {
@@ -204,7 +187,6 @@ pub fn assemble_stiffness(
     extra: &[(usize, Vec<f64>)],
 ) -> Result<Elasticity, Error> {
     let d = mesh.dim;
-    let k = d + 1;
     let nown = mesh.owned_count;
     let (nptr, nbr) = node_adjacency(mesh);
     // Dof row (a, ca) starts at d * (d * nptr[a] + ca * len(a)); its
@@ -236,13 +218,14 @@ pub fn assemble_stiffness(
     let mut mass = vec![0.0; nown];
     let d2 = hooke_2d(settings.young, settings.nu, settings.plane_stress);
     let d3 = hooke_3d(settings.young, settings.nu);
-    let nloc = d * k;
-    let mut ke = vec![0.0; nloc * nloc];
+    let lame = element::lame(settings.young, settings.nu, d, settings.plane_stress);
+    let nloc_max = d * mesh.cells.max_nodes();
+    let mut ke = vec![0.0; nloc_max * nloc_max];
     // Cells by their lowest vertex (counting sort): the rows each one adds
     // to are then swept in order, not at random (RCM-numbered nodes,
     // cells in file order; hertz_37473: 55 -> 40 ms).
-    let ncells = mesh.cells.len() / k;
-    let lowest = |c: usize| *mesh.cells[c * k..(c + 1) * k].iter().min().unwrap_or(&0);
+    let ncells = mesh.cells.len();
+    let lowest = |c: usize| *mesh.cells.get(c).iter().min().unwrap_or(&0);
     let mut start = vec![0usize; mesh.node_global.len() + 1];
     for c in 0..ncells {
         start[lowest(c) + 1] += 1;
@@ -256,47 +239,89 @@ pub fn assemble_stiffness(
         order[start[v]] = c as u32;
         start[v] += 1;
     }
+    // The integral of each vertex's shape function over the cell.
+    let mut lumped = [0.0; 8];
     for c in order.into_iter().map(|c| c as usize) {
-        let cell = &mesh.cells[c * k..(c + 1) * k];
-        let measure;
-        if d == 2 {
-            let x = [0, 1, 2].map(|a| {
-                let p = mesh.x(cell[a]);
-                [p[0], p[1]]
-            });
-            let (m, area) = stiffness_2d(&x, &d2);
-            measure = area;
-            for i in 0..6 {
-                for j in 0..6 {
-                    ke[i * 6 + j] = m[(i, j)];
+        let cell = mesh.cells.get(c);
+        let k = cell.len();
+        let nloc = d * k;
+        let measure = match (d, k) {
+            (2, 3) => {
+                let x = [0, 1, 2].map(|a| {
+                    let p = mesh.x(cell[a]);
+                    [p[0], p[1]]
+                });
+                let (m, area) = stiffness_2d(&x, &d2);
+                for i in 0..6 {
+                    for j in 0..6 {
+                        ke[i * 6 + j] = m[(i, j)];
+                    }
                 }
+                area
             }
-        } else {
-            let x = [0, 1, 2, 3].map(|a| {
-                let p = mesh.x(cell[a]);
-                [p[0], p[1], p[2]]
-            });
-            let (m, vol) = stiffness_3d(&x, &d3);
-            measure = vol;
-            for i in 0..12 {
-                for j in 0..12 {
-                    ke[i * 12 + j] = m[(i, j)];
+            (3, 4) => {
+                let x = [0, 1, 2, 3].map(|a| {
+                    let p = mesh.x(cell[a]);
+                    [p[0], p[1], p[2]]
+                });
+                let (m, vol) = stiffness_3d(&x, &d3);
+                for i in 0..12 {
+                    for j in 0..12 {
+                        ke[i * 12 + j] = m[(i, j)];
+                    }
                 }
+                vol
             }
-        }
+            (2, 4) => {
+                let x: [[f64; 2]; 4] = std::array::from_fn(|a| {
+                    let p = mesh.x(cell[a]);
+                    [p[0], p[1]]
+                });
+                ke[..64].fill(0.0);
+                let mut l4 = [0.0; 4];
+                let r = element::q1_stiffness(&x, element::quad_rule(), lame, &mut ke, &mut l4);
+                lumped[..4].copy_from_slice(&l4);
+                r.unwrap_or(f64::NAN)
+            }
+            (3, 8) => {
+                let x: [[f64; 3]; 8] = std::array::from_fn(|a| {
+                    let p = mesh.x(cell[a]);
+                    [p[0], p[1], p[2]]
+                });
+                ke[..576].fill(0.0);
+                let mut l8 = [0.0; 8];
+                let r = element::q1_stiffness(&x, element::hex_rule(), lame, &mut ke, &mut l8);
+                lumped.copy_from_slice(&l8);
+                r.unwrap_or(f64::NAN)
+            }
+            _ => {
+                return Err(Error::Internal(format!(
+                    "cell {c} has {k} nodes in a {d}D mesh"
+                )))
+            }
+        };
         if measure.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || !measure.is_finite() {
             let tags: Vec<String> = cell.iter().map(|&v| mesh.node_tag[v].to_string()).collect();
             return bad(format!(
-                "degenerate element {} (nodes {}): zero measure",
+                "degenerate element {} (nodes {}): zero measure{}",
                 c,
-                tags.join(" ")
+                tags.join(" "),
+                if k == d + 1 {
+                    ""
+                } else {
+                    ", or a Jacobian determinant that vanishes or changes sign"
+                }
             ));
+        }
+        if k == d + 1 {
+            // P1: a (d+1)-th of the measure to each vertex.
+            lumped[..k].fill(measure / k as f64);
         }
         for (ia, &a) in cell.iter().enumerate() {
             if !mesh.is_owned(a) {
                 continue;
             }
-            mass[a] += measure / k as f64;
+            mass[a] += lumped[ia];
             for (ib, &b) in cell.iter().enumerate() {
                 let p = slot(a, b);
                 for ca in 0..d {
@@ -325,8 +350,10 @@ pub fn assemble_stiffness(
     })
 }
 
-/// The load vector's owned entries from the surface tractions (nodal quadrature:
-/// a facet of measure |F| with m vertices gives |F|/m * t to each vertex).
+/// The load vector's owned entries from the surface tractions (nodal
+/// quadrature: vertex a of a facet gets `w_a t`, `w_a` from
+/// [`element::facet_weights`]: |F|/m for a simplex facet of m vertices,
+/// `int N_a dA` for a quadrilateral).
 pub fn traction_load(mesh: &LocalMesh, tractions: &[TractionBc]) -> Result<Vec<f64>, Error> {
     let d = mesh.dim;
     let mut f = vec![0.0; mesh.owned_count * d];
@@ -356,11 +383,11 @@ pub fn traction_load(mesh: &LocalMesh, tractions: &[TractionBc]) -> Result<Vec<f
                 d - 1
             ));
         }
-        let m = group.nodes_per_element();
-        for e in group.conn.chunks(m) {
+        let mut w = Vec::with_capacity(4);
+        for e in &group.conn {
             let pts: Vec<&[f64]> = e.iter().map(|&v| mesh.x(v)).collect();
-            let share = facet_measure(&pts) / m as f64;
-            for &v in e {
+            element::facet_weights(&pts, &mut w);
+            for (&v, &share) in e.iter().zip(&w) {
                 if mesh.is_owned(v) {
                     for c in 0..d {
                         f[v * d + c] += share * t.traction[c];
@@ -394,7 +421,7 @@ pub fn dirichlet_dofs(mesh: &LocalMesh, bcs: &[DirichletBc]) -> Result<Vec<(usiz
                     d
                 ));
             }
-            for &v in &group.conn {
+            for &v in group.conn.nodes() {
                 if mesh.is_owned(v) {
                     out.push((v * d + comp, value));
                 }

@@ -1,7 +1,8 @@
 //! ParaView output: one `.vtu` piece per MPI rank plus a `.pvtu` index.
 //!
 //! Each rank writes its own part of the mesh with [`write_vtu`] (an XML
-//! `UnstructuredGrid` of triangles in 2D or linear tetrahedra in 3D), and
+//! `UnstructuredGrid` of linear cells: triangles and quadrilaterals in 2D,
+//! tetrahedra and hexahedra in 3D, in any mix), and
 //! rank 0 writes the `.pvtu` index with [`write_pvtu`], which names the pieces
 //! by file names relative to the index's directory and declares the same
 //! fields. ParaView opens the `.pvtu` and shows the whole mesh.
@@ -43,8 +44,24 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// VTK cell type of a linear triangle.
 const VTK_TRIANGLE: u8 = 5;
+/// VTK cell type of a bilinear quadrilateral.
+const VTK_QUAD: u8 = 9;
 /// VTK cell type of a linear tetrahedron.
 const VTK_TETRA: u8 = 10;
+/// VTK cell type of a trilinear hexahedron.
+const VTK_HEXAHEDRON: u8 = 12;
+
+/// The VTK type of a cell of `n` points in dimension `dim` (Gmsh's node
+/// order is VTK's for all four kinds).
+fn vtk_cell_type(dim: usize, n: usize) -> Option<u8> {
+    match (dim, n) {
+        (2, 3) => Some(VTK_TRIANGLE),
+        (2, 4) => Some(VTK_QUAD),
+        (3, 4) => Some(VTK_TETRA),
+        (3, 8) => Some(VTK_HEXAHEDRON),
+        _ => None,
+    }
+}
 
 /// What a field holds per entry, as declared in the `.pvtu` index.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -113,12 +130,15 @@ impl<'a> Field<'a> {
 /// One rank's part of the mesh with its fields.
 #[derive(Clone, Debug)]
 pub struct Piece<'a> {
-    /// 2 (triangles) or 3 (tetrahedra).
+    /// 2 (triangles, quadrilaterals) or 3 (tetrahedra, hexahedra).
     pub dim: usize,
     /// `dim` values per point (2D points are padded with z = 0 in the file).
     pub coords: &'a [f64],
-    /// `dim + 1` point indices (into this piece's points) per cell.
+    /// Point indices (into this piece's points) of the cells, one after the other.
     pub cells: &'a [usize],
+    /// Where each cell ends in `cells` (VTK's `offsets`); empty when every
+    /// cell has `dim + 1` points (simplices).
+    pub offsets: &'a [usize],
     /// One entry per point each.
     pub point_data: Vec<Field<'a>>,
     /// One entry per cell each.
@@ -137,6 +157,7 @@ impl<'a> Piece<'a> {
     /// Number of cells (0 if `dim` is not 2 or 3).
     pub fn num_cells(&self) -> usize {
         match self.dim {
+            2 | 3 if !self.offsets.is_empty() => self.offsets.len(),
             2 | 3 => self.cells.len() / (self.dim + 1),
             _ => 0,
         }
@@ -196,9 +217,37 @@ pub fn vtu_bytes(piece: &Piece) -> io::Result<Vec<u8>> {
         )));
     }
     let nv = dim + 1;
-    if !piece.cells.len().is_multiple_of(nv) {
+    let offsets: Vec<i64> = if piece.offsets.is_empty() {
+        if !piece.cells.len().is_multiple_of(nv) {
+            return Err(invalid_input(format!(
+                "{} cell point indices is not a multiple of {nv}",
+                piece.cells.len()
+            )));
+        }
+        (1..=piece.cells.len() / nv)
+            .map(|c| (c * nv) as i64)
+            .collect()
+    } else {
+        piece.offsets.iter().map(|&o| o as i64).collect()
+    };
+    let mut types = Vec::with_capacity(offsets.len());
+    let mut begin = 0i64;
+    for (c, &end) in offsets.iter().enumerate() {
+        let ty = usize::try_from(end - begin)
+            .ok()
+            .and_then(|n| vtk_cell_type(dim, n))
+            .ok_or_else(|| {
+                invalid_input(format!(
+                    "cell {c} has {} points: not a linear {dim}D cell",
+                    end - begin
+                ))
+            })?;
+        types.push(ty);
+        begin = end;
+    }
+    if begin != piece.cells.len() as i64 {
         return Err(invalid_input(format!(
-            "{} cell point indices is not a multiple of {nv}",
+            "the offsets end at {begin}, the cells hold {} point indices",
             piece.cells.len()
         )));
     }
@@ -241,8 +290,6 @@ pub fn vtu_bytes(piece: &Piece) -> io::Result<Vec<u8>> {
     x.push_str("      </Points>\n");
 
     let connectivity: Vec<i64> = piece.cells.iter().map(|&i| i as i64).collect();
-    let offsets: Vec<i64> = (1..=nc).map(|c| (c * nv) as i64).collect();
-    let cell_type = if dim == 2 { VTK_TRIANGLE } else { VTK_TETRA };
     x.push_str("      <Cells>\n");
     data_array(
         &mut x,
@@ -252,7 +299,7 @@ pub fn vtu_bytes(piece: &Piece) -> io::Result<Vec<u8>> {
         &i64_bytes(&connectivity),
     );
     data_array(&mut x, "offsets", "Int64", 1, &i64_bytes(&offsets));
-    data_array(&mut x, "types", "UInt8", 1, &vec![cell_type; nc]);
+    data_array(&mut x, "types", "UInt8", 1, &types);
     x.push_str("      </Cells>\n");
     x.push_str("    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
     Ok(x.into_bytes())
@@ -633,6 +680,7 @@ print(json.dumps({
         dim: usize,
         coords: Vec<f64>,
         cells: Vec<usize>,
+        offsets: Vec<usize>,
         p_scalar: Vec<f64>,
         p_vector: Vec<f64>,
         p_tensor: Vec<f64>,
@@ -649,6 +697,7 @@ print(json.dumps({
                 dim: self.dim,
                 coords: &self.coords,
                 cells: &self.cells,
+                offsets: &self.offsets,
                 point_data: vec![
                     Field::Scalar("gap", &self.p_scalar),
                     Field::Vector("displacement", &self.p_vector),
@@ -698,6 +747,7 @@ print(json.dumps({
             dim: 2,
             coords: vec![dx, 0.0, dx + 1.0, 0.0, dx + 1.0, 1.0, dx, 1.0],
             cells: vec![0, 1, 2, 0, 2, 3],
+            offsets: vec![],
             p_scalar: vec![0.5, -1.25, 1e-300, 3.0e12],
             p_vector: vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0],
             p_tensor: (0..36).map(|i| i as f64 * 0.5 + dx).collect(),
@@ -714,6 +764,7 @@ print(json.dumps({
             dim: 3,
             coords: vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
             cells: vec![0, 1, 2, 3],
+            offsets: vec![],
             p_scalar: vec![1.0, 2.0, 3.0, 4.0],
             p_vector: (0..12).map(|i| i as f64 - 5.5).collect(),
             p_tensor: (0..36).map(|i| (i as f64).sqrt()).collect(),
@@ -859,6 +910,7 @@ print(json.dumps({
             dim: 2,
             coords: vec![],
             cells: vec![],
+            offsets: vec![],
             p_scalar: vec![],
             p_vector: vec![],
             p_tensor: vec![],
