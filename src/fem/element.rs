@@ -1,7 +1,26 @@
 //! Q1 (isoparametric) elements: the bilinear quadrilateral in 2D and the
 //! trilinear hexahedron in 3D, integrated by 2x2 and 2x2x2 Gauss points;
-//! and the nodal weights of boundary facets (points, segments, triangles,
+//! the 6-node prism and the 5-node pyramid as degenerate hexahedra; and the
+//! nodal weights of boundary facets (points, segments, triangles,
 //! quadrilaterals).
+//!
+//! # Prisms and pyramids
+//! A prism is the hexahedron with corners `[0, 1, 2, 2, 3, 4, 5, 5]` of its
+//! nodes, a pyramid the one with corners `[0, 1, 2, 3, 4, 4, 4, 4]`
+//! ([`PRISM_AS_HEX`], [`PYRAMID_AS_HEX`]): the trilinear map collapses an
+//! edge of each square face pair, or the whole top face, which is Duffy's
+//! collapsed-coordinate map. Summing the shape functions of the merged
+//! corners gives, for the prism, the usual `P1(triangle) x P1(segment)`
+//! basis, and for the pyramid the rational basis of Bedrosian (1992),
+//! `N_i = (1 - z + xi_i x)(1 - z + eta_i y) / (4 (1 - z))`, `N_apex = z`, in
+//! Gmsh's reference pyramid: bilinear on the base (conforming with the
+//! hexahedra), linear on the triangular faces (conforming with the
+//! tetrahedra). Both contain the linear functions, the Jacobian vanishes
+//! only on the collapsed edges (never at a Gauss point), and the 2x2x2 rule
+//! in the collapsed coordinates integrates `int grad N_a dx` exactly (the
+//! integrand is a polynomial there), so the patch test holds as for the
+//! hexahedron. The stiffness is the hexahedron's on the repeated
+//! coordinates, with the rows and columns of merged corners summed.
 //!
 //! Reference cells are `[-1, 1]^d`, nodes in Gmsh's order (also VTK's):
 //! the quadrilateral's corners counter-clockwise from `(-1, -1)`; the
@@ -40,6 +59,64 @@ pub const HEX_CORNERS: [[f64; 3]; 8] = [
     [1.0, 1.0, 1.0],
     [-1.0, 1.0, 1.0],
 ];
+
+/// Hexahedron corner -> prism node (Gmsh's prism: bottom triangle 0 1 2,
+/// top triangle 3 4 5 above it).
+pub const PRISM_AS_HEX: [usize; 8] = [0, 1, 2, 2, 3, 4, 5, 5];
+/// Hexahedron corner -> pyramid node (Gmsh's pyramid: base 0 1 2 3, apex 4).
+pub const PYRAMID_AS_HEX: [usize; 8] = [0, 1, 2, 3, 4, 4, 4, 4];
+const HEX_AS_HEX: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
+
+/// The hexahedron corners of a 3D cell of `k` nodes (8, 6 or 5), as nodes
+/// of the cell.
+pub fn as_hex(k: usize) -> Option<&'static [usize; 8]> {
+    match k {
+        8 => Some(&HEX_AS_HEX),
+        6 => Some(&PRISM_AS_HEX),
+        5 => Some(&PYRAMID_AS_HEX),
+        _ => None,
+    }
+}
+
+/// Stiffness of a hexahedron, prism or pyramid whose `k = x.len()` node
+/// coordinates are `x`, written into `ke` (`(3k)^2` values, zeroed first),
+/// and `int N_a dx` into `lumped[..k]`; returns the measure. A prism or a
+/// pyramid is computed as its degenerate hexahedron (module doc).
+pub fn hex_family_stiffness(
+    x: &[[f64; 3]],
+    lame: (f64, f64),
+    ke: &mut [f64],
+    lumped: &mut [f64],
+) -> Result<f64, Folded> {
+    let k = x.len();
+    let map = as_hex(k).expect("a hexahedron, prism or pyramid");
+    let nloc = 3 * k;
+    ke[..nloc * nloc].fill(0.0);
+    lumped[..k].fill(0.0);
+    let x8: [[f64; 3]; 8] = std::array::from_fn(|a| x[map[a]]);
+    if k == 8 {
+        let mut l8 = [0.0; 8];
+        let r = q1_stiffness(&x8, hex_rule(), lame, ke, &mut l8);
+        lumped[..8].copy_from_slice(&l8);
+        return r;
+    }
+    let mut k8 = [0.0; 576];
+    let mut l8 = [0.0; 8];
+    let measure = q1_stiffness(&x8, hex_rule(), lame, &mut k8, &mut l8)?;
+    for a in 0..8 {
+        lumped[map[a]] += l8[a];
+        for b in 0..8 {
+            for i in 0..3 {
+                let dst = (map[a] * 3 + i) * nloc + map[b] * 3;
+                let src = (a * 3 + i) * 24 + b * 3;
+                for j in 0..3 {
+                    ke[dst + j] += k8[src + j];
+                }
+            }
+        }
+    }
+    Ok(measure)
+}
 
 /// Bilinear shape functions and their reference gradients at `p`.
 pub fn q1_2d(p: [f64; 2]) -> ([f64; 4], [[f64; 2]; 4]) {
@@ -269,10 +346,19 @@ pub fn q1_stiffness<const N: usize, const D: usize>(
 }
 
 /// The Gauss points' weights and Jacobian determinants `(w, det J)` of a
-/// Q1 cell (`dim` = 2: 4 nodes, 3: 8 nodes) whose node coordinates are
-/// `x` (`dim` values per node). Empty for any other node count.
+/// Q1 cell (`dim` = 2: 4 nodes; 3: 8 nodes, or a prism or pyramid as a
+/// degenerate hexahedron) whose node coordinates are `x` (`dim` values per
+/// node). Empty for any other node count.
 pub fn jacobians(dim: usize, x: &[f64]) -> Vec<(f64, f64)> {
     match (dim, x.len()) {
+        (3, 15) | (3, 18) => {
+            let map = as_hex(x.len() / 3).expect("a prism or pyramid");
+            let x8: Vec<f64> = map
+                .iter()
+                .flat_map(|&a| x[3 * a..3 * a + 3].iter().copied())
+                .collect();
+            jacobians(3, &x8)
+        }
         (2, 8) => {
             let p: [[f64; 2]; 4] = std::array::from_fn(|a| [x[2 * a], x[2 * a + 1]]);
             let r = quad_rule();
@@ -292,16 +378,30 @@ pub fn jacobians(dim: usize, x: &[f64]) -> Vec<(f64, f64)> {
 }
 
 /// Physical gradients of the shape functions at the centre of a Q1 cell
-/// (`dim` values per node in `x`), node-major: `dim` values per node.
+/// (`dim` values per node in `x`), node-major: `dim` values per node. For
+/// a prism or a pyramid, at the image of its degenerate hexahedron's
+/// centre (a pyramid: on its axis, half-way up).
 pub fn centre_gradients(dim: usize, x: &[f64]) -> Vec<f64> {
     if dim == 2 {
         let p: [[f64; 2]; 4] = std::array::from_fn(|a| [x[2 * a], x[2 * a + 1]]);
         let (g, _) = gradients(&p, &q1_2d([0.0, 0.0]).1);
         g.iter().flatten().copied().collect()
     } else {
-        let p: [[f64; 3]; 8] = std::array::from_fn(|a| [x[3 * a], x[3 * a + 1], x[3 * a + 2]]);
+        // A prism or a pyramid: its degenerate hexahedron, merged corners summed.
+        let k = x.len() / 3;
+        let map = as_hex(k).expect("a hexahedron, prism or pyramid");
+        let p: [[f64; 3]; 8] = std::array::from_fn(|a| {
+            let v = map[a];
+            [x[3 * v], x[3 * v + 1], x[3 * v + 2]]
+        });
         let (g, _) = gradients(&p, &q1_3d([0.0, 0.0, 0.0]).1);
-        g.iter().flatten().copied().collect()
+        let mut out = vec![0.0; 3 * k];
+        for (a, ga) in g.iter().enumerate() {
+            for r in 0..3 {
+                out[3 * map[a] + r] += ga[r];
+            }
+        }
+        out
     }
 }
 
@@ -498,6 +598,43 @@ mod tests {
         let z = [x[0], x[1], x[3], x[2]];
         let e = q1_stiffness(&z, quad_rule(), (1.0, 1.0), &mut kx, &mut mx).unwrap_err();
         assert!(e.min_det < 0.0 && e.max_det > 0.0);
+    }
+
+    #[test]
+    fn degenerate_hexahedra_are_the_prism_and_pyramid_bases() {
+        // Merged shape functions of the degenerate hexahedron at collapsed
+        // coordinates (u, v, w), against the classical bases.
+        let merged = |map: &[usize; 8], k: usize, p: [f64; 3]| {
+            let (n, _) = q1_3d(p);
+            let mut m = vec![0.0; k];
+            for a in 0..8 {
+                m[map[a]] += n[a];
+            }
+            m
+        };
+        for &(u, v, w) in &[(0.3, -0.7, 0.1), (-0.9, 0.2, -0.5), (0.0, 0.0, 0.8)] {
+            // Pyramid: x = (1 - z) u, y = (1 - z) v, z = (1 + w) / 2 (Gmsh's reference).
+            let z = 0.5 * (1.0 + w);
+            let (x, y) = ((1.0 - z) * u, (1.0 - z) * v);
+            let m = merged(&PYRAMID_AS_HEX, 5, [u, v, w]);
+            for (a, c) in QUAD_CORNERS.iter().enumerate() {
+                let b = (1.0 - z + c[0] * x) * (1.0 - z + c[1] * y) / (4.0 * (1.0 - z));
+                assert!((m[a] - b).abs() < 1e-14, "pyramid node {a}");
+            }
+            assert!((m[4] - z).abs() < 1e-14);
+            // Prism: x = (1 + u)(1 - v) / 4, y = (1 + v) / 2 on the triangle
+            // (0,0) (1,0) (0,1), z = w.
+            let (x, y) = (0.25 * (1.0 + u) * (1.0 - v), 0.5 * (1.0 + v));
+            let m = merged(&PRISM_AS_HEX, 6, [u, v, w]);
+            let tri = [1.0 - x - y, x, y];
+            for a in 0..3 {
+                assert!(
+                    (m[a] - tri[a] * 0.5 * (1.0 - w)).abs() < 1e-14,
+                    "prism node {a}"
+                );
+                assert!((m[a + 3] - tri[a] * 0.5 * (1.0 + w)).abs() < 1e-14);
+            }
+        }
     }
 
     #[test]

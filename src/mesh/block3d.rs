@@ -504,6 +504,85 @@ mod tests {
     }
 
     #[test]
+    fn hex_mesh_is_valid() {
+        for h in [100.0, 1.0, 0.5, 0.3, 0.25] {
+            let m = generate_hex(h).unwrap();
+            let t = generate(h).unwrap();
+            assert_eq!(
+                (m.coords.clone(), m.node_tags.clone()),
+                (t.coords.clone(), t.node_tags.clone())
+            );
+            assert_eq!(6 * m.num_cells(), t.num_cells());
+            let mut volume = 0.0;
+            for c in 0..m.num_cells() {
+                let (lo, hi) = m.jacobian_range(c);
+                assert!(
+                    lo > 0.0 && (hi - lo).abs() < 1e-12 * hi,
+                    "h = {h}: cell {c}"
+                );
+                volume += m.signed_measure(c);
+            }
+            assert!((volume - 2.0).abs() < 1e-12);
+            // Faces of the hexahedra (outward for a positive hexahedron);
+            // the groups are exactly the faces used once, oriented outward.
+            let hex_faces = [
+                [0, 3, 2, 1],
+                [4, 5, 6, 7],
+                [0, 1, 5, 4],
+                [1, 2, 6, 5],
+                [2, 3, 7, 6],
+                [3, 0, 4, 7],
+            ];
+            let mut faces: HashMap<[usize; 4], (usize, Vec<usize>)> = HashMap::new();
+            for c in &m.cells {
+                for f in hex_faces {
+                    let q: Vec<usize> = f.iter().map(|&i| c[i]).collect();
+                    let mut key = [q[0], q[1], q[2], q[3]];
+                    key.sort_unstable();
+                    let e = faces.entry(key).or_insert((0, q.clone()));
+                    e.0 += 1;
+                    e.1 = q;
+                }
+            }
+            let boundary: HashMap<[usize; 4], Vec<usize>> = faces
+                .iter()
+                .filter(|(_, (k, _))| *k == 1)
+                .map(|(k, (_, q))| (*k, q.clone()))
+                .collect();
+            let mut seen = 0;
+            for g in &m.groups {
+                let mut area = 0.0;
+                for q in &g.conn {
+                    let mut key = [q[0], q[1], q[2], q[3]];
+                    key.sort_unstable();
+                    let f = boundary.get(&key).expect("a boundary face");
+                    let r = (0..4).find(|&r| f[r] == q[0]).unwrap();
+                    assert!(
+                        (0..4).all(|i| f[(r + i) % 4] == q[i]),
+                        "{} face {q:?} not outward",
+                        g.name
+                    );
+                    area += norm(area_vector(&m, &[q[0], q[1], q[2]]))
+                        + norm(area_vector(&m, &[q[0], q[2], q[3]]));
+                    seen += 1;
+                }
+                let want = if g.name == "sides" { 6.0 } else { 2.0 };
+                assert!(
+                    (area - want).abs() < 1e-12,
+                    "h = {h}: {} area {area}",
+                    g.name
+                );
+            }
+            assert_eq!(seen, boundary.len());
+            for &v in m.group("bottom").unwrap().conn.nodes() {
+                assert_eq!(point(&m, v)[2], -0.5);
+            }
+        }
+        assert_eq!(generate_hex(0.3).unwrap(), generate_hex(0.3).unwrap());
+        assert!(generate_hex(1e-3).unwrap_err().0.contains("-mesh_h"));
+    }
+
+    #[test]
     fn deterministic() {
         assert_eq!(generate(0.3).unwrap(), generate(0.3).unwrap());
     }

@@ -19,6 +19,9 @@ pub struct LocalMesh {
     pub dim: usize,
     pub global_nodes: usize,
     pub global_cells: usize,
+    /// The kinds of the whole mesh's cells in words, for summaries:
+    /// "triangles", "quadrilaterals", "triangles and quadrilaterals", ...
+    pub cell_kinds: String,
     /// First global (renumbered) node this rank owns, and how many.
     pub owned_start: usize,
     pub owned_count: usize,
@@ -215,6 +218,7 @@ pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec
             cells_of[p].push(c);
         }
     }
+    let kinds = mesh.cell_kinds_label();
     let mut locals = Vec::with_capacity(nparts);
     for p in 0..nparts {
         let owned_start = start[p];
@@ -282,6 +286,7 @@ pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec
             dim: d,
             global_nodes: n,
             global_cells: mesh.num_cells(),
+            cell_kinds: kinds.clone(),
             owned_start,
             owned_count,
             node_global,
@@ -354,6 +359,7 @@ fn encode(m: &LocalMesh) -> Vec<u8> {
     w.u(m.dim);
     w.u(m.global_nodes);
     w.u(m.global_cells);
+    w.us(&m.cell_kinds.bytes().map(|b| b as usize).collect::<Vec<_>>());
     w.u(m.owned_start);
     w.u(m.owned_count);
     w.us(&m.node_global);
@@ -375,6 +381,8 @@ fn decode(buf: &[u8]) -> LocalMesh {
     let dim = r.u();
     let global_nodes = r.u();
     let global_cells = r.u();
+    let kinds: Vec<u8> = r.us().into_iter().map(|b| b as u8).collect();
+    let cell_kinds = String::from_utf8_lossy(&kinds).into_owned();
     let owned_start = r.u();
     let owned_count = r.u();
     let node_global = r.us();
@@ -396,6 +404,7 @@ fn decode(buf: &[u8]) -> LocalMesh {
         dim,
         global_nodes,
         global_cells,
+        cell_kinds,
         owned_start,
         owned_count,
         node_global,
@@ -517,6 +526,7 @@ mod tests {
             let back = decode(&encode(l));
             assert_eq!(back.node_global, l.node_global);
             assert_eq!(back.cells, l.cells);
+            assert_eq!(back.cell_kinds, "triangles");
             assert_eq!(back.coords, l.coords);
             assert_eq!(back.groups, l.groups);
             // every cell touches an owned node

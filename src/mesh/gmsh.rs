@@ -12,14 +12,15 @@
 //!   their `$End...` line. Partitioned 4.1 meshes (`$PartitionedEntities`) are
 //!   not supported.
 //! * Element types 15 (point), 1 (2-node line), 2 (3-node triangle),
-//!   3 (4-node quadrilateral), 4 (4-node tetrahedron) and 5 (8-node
-//!   hexahedron), in any mix. Any other type is an error that names it in
-//!   words ("second-order triangle (Gmsh type 9) is not supported"; prisms
-//!   and pyramids, types 6 and 7, likewise).
+//!   3 (4-node quadrilateral), 4 (4-node tetrahedron), 5 (8-node
+//!   hexahedron), 6 (6-node prism) and 7 (5-node pyramid), in any mix. Any
+//!   other type is an error that names it in words ("second-order triangle
+//!   (Gmsh type 9) is not supported").
 //!
 //! # Result
 //!
-//! The mesh is 3D when there are tetrahedra or hexahedra, else 2D when there
+//! The mesh is 3D when there are 3D cells (tetrahedra, hexahedra, prisms,
+//! pyramids), else 2D when there
 //! are triangles or quadrilaterals (the z coordinate is dropped: they must lie
 //! in a plane z = constant), else an error. [`Mesh::cells`] holds every element
 //! of the top dimension in file order, with or without a physical group. Every physical group of lower dimension becomes a [`Group`], named
@@ -74,6 +75,8 @@ fn element_info(gmsh_type: i32) -> Option<(usize, usize)> {
         3 => Some((2, 4)),
         4 => Some((3, 4)),
         5 => Some((3, 8)),
+        6 => Some((3, 6)),
+        7 => Some((3, 5)),
         _ => None,
     }
 }
@@ -893,7 +896,8 @@ impl<'a> Reader<'a> {
     fn check_type(&self, at: usize, gmsh_type: i32) -> Res<(usize, usize)> {
         element_info(gmsh_type).ok_or_else(|| {
             const SUPPORTED: &str = "supported: points, 2-node lines, 3-node triangles, \
-                                     4-node quadrilaterals, 4-node tetrahedra, 8-node hexahedra";
+                                     4-node quadrilaterals, 4-node tetrahedra, 8-node hexahedra, \
+                                     6-node prisms, 5-node pyramids";
             match gmsh_type_name(gmsh_type) {
                 Some(name) => self.err(
                     at,
@@ -1196,7 +1200,7 @@ impl<'a> Reader<'a> {
         } else {
             return Err(self.err(
                 elements_at,
-                "no cells (triangles, quadrilaterals, tetrahedra or hexahedra)",
+                "no cells (triangles, quadrilaterals, tetrahedra, hexahedra, prisms or pyramids)",
             ));
         };
         if dim == 2 {
@@ -1923,14 +1927,12 @@ $EndElements
             err(s.as_bytes()),
             "t.msh:27: second-order triangle (Gmsh type 9) is not supported \
              (supported: points, 2-node lines, 3-node triangles, 4-node quadrilaterals, \
-             4-node tetrahedra, 8-node hexahedra)"
+             4-node tetrahedra, 8-node hexahedra, 6-node prisms, 5-node pyramids)"
         );
         let s = SQ41.replace("2 1 2 2\n", "2 1 9 2\n");
         assert!(err(s.as_bytes())
             .starts_with("t.msh:48: second-order triangle (Gmsh type 9) is not supported ("));
         for (t, words) in [
-            (6, "6-node prism (Gmsh type 6)"),
-            (7, "5-node pyramid (Gmsh type 7)"),
             (8, "second-order line (Gmsh type 8)"),
             (10, "second-order 9-node quadrilateral (Gmsh type 10)"),
             (11, "second-order tetrahedron (Gmsh type 11)"),
@@ -2107,7 +2109,7 @@ $EndElements
             .replace("6 2 2 12 1 1 2 3\n7 2 2 12 1 1 3 4\n", "");
         assert_eq!(
             err(s.as_bytes()),
-            "t.msh:19: no cells (triangles, quadrilaterals, tetrahedra or hexahedra)"
+            "t.msh:19: no cells (triangles, quadrilaterals, tetrahedra, hexahedra, prisms or pyramids)"
         );
         let s = SQ41.replace("1 3 1 1\n4 3 4", "1 4 1 1\n4 3 4");
         assert_eq!(

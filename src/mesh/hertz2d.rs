@@ -529,6 +529,106 @@ mod tests {
     }
 
     #[test]
+    fn quad_mesh_is_valid() {
+        for h in SIZES {
+            let m = generate_quad(h).unwrap();
+            let n = m.num_nodes();
+            assert_eq!(m.cells.stride(), Some(4));
+            assert_eq!(m.node_tags, (1..=n as u64).collect::<Vec<_>>());
+            // Convex and counter-clockwise: det J > 0 at the Gauss points
+            // and at the corners (the cross products of the edges).
+            let mut area = 0.0;
+            for (c, q) in m.cells.iter().enumerate() {
+                let (lo, _) = m.jacobian_range(c);
+                assert!(lo > 0.0, "h = {h}: cell {c}");
+                for i in 0..4 {
+                    let (o, u, w) = (
+                        point(&m, q[i]),
+                        point(&m, q[(i + 1) % 4]),
+                        point(&m, q[(i + 3) % 4]),
+                    );
+                    let cross = (u[0] - o[0]) * (w[1] - o[1]) - (u[1] - o[1]) * (w[0] - o[0]);
+                    assert!(cross > 0.0, "h = {h}: cell {c} corner {i}");
+                }
+                area += m.signed_measure(c);
+            }
+            let outer = m.group("contact").unwrap();
+            let segments: f64 = outer
+                .conn
+                .iter()
+                .map(|e| {
+                    let c = dist(point(&m, e[0]), point(&m, e[1]));
+                    let theta = 2.0 * (c / (2.0 * R)).asin();
+                    0.5 * R * R * (theta - theta.sin())
+                })
+                .sum();
+            let polygon = 0.25 * PI * R * R - segments;
+            assert!(
+                (area - polygon).abs() < 1e-10 * polygon,
+                "h = {h}: {area} vs {polygon}"
+            );
+            // Arc nodes on the circle, equally spaced in angle, about h apart.
+            let arc: Vec<[f64; 2]> = outer.conn.iter().map(|e| point(&m, e[0])).collect();
+            for p in &arc {
+                assert!((dist(*p, [0.0, R]) - R).abs() < 1e-13);
+            }
+            let l0 = dist(arc[0], arc[1]);
+            assert!(arc
+                .windows(2)
+                .all(|w| (dist(w[0], w[1]) - l0).abs() < 1e-12));
+            assert!(
+                l0 <= h * 1.0001 || outer.len() <= 2,
+                "h = {h}: arc spacing {l0}"
+            );
+            // Boundary edges (used by one quadrilateral) are the groups'
+            // edges, oriented counter-clockwise; the groups' lengths.
+            let mut count: HashMap<(usize, usize), (usize, (usize, usize))> = HashMap::new();
+            for q in &m.cells {
+                for c in 0..4 {
+                    let (a, b) = (q[c], q[(c + 1) % 4]);
+                    let e = count.entry((a.min(b), a.max(b))).or_insert((0, (a, b)));
+                    e.0 += 1;
+                }
+            }
+            assert!(count.values().all(|&(k, _)| k <= 2), "h = {h}");
+            let boundary: HashMap<(usize, usize), (usize, usize)> = count
+                .iter()
+                .filter(|(_, &(k, _))| k == 1)
+                .map(|(&k, &(_, o))| (k, o))
+                .collect();
+            let mut seen = 0;
+            for g in &m.groups {
+                for e in &g.conn {
+                    let key = (e[0].min(e[1]), e[0].max(e[1]));
+                    assert_eq!(
+                        boundary.get(&key),
+                        Some(&(e[0], e[1])),
+                        "h = {h}: {} edge {e:?}",
+                        g.name
+                    );
+                    seen += 1;
+                }
+            }
+            assert_eq!(seen, boundary.len(), "h = {h}");
+            assert!((group_length(&m, "symmetry") - 8.0).abs() < 1e-12);
+            assert!((group_length(&m, "top") - 8.0).abs() < 1e-12);
+            for &v in m.group("symmetry").unwrap().conn.nodes() {
+                assert_eq!(point(&m, v)[0], 0.0);
+            }
+            for &v in m.group("top").unwrap().conn.nodes() {
+                assert_eq!(point(&m, v)[1], R);
+            }
+            // Euler for a disk: V - E + F = 1.
+            let edges = count.len();
+            assert_eq!(n + m.num_cells(), 1 + edges, "h = {h}");
+            let used: std::collections::HashSet<usize> = m.cells.nodes().iter().copied().collect();
+            assert_eq!(used.len(), n);
+        }
+        assert_eq!(generate_quad(0.3).unwrap(), generate_quad(0.3).unwrap());
+        assert!(generate_quad(1e-5).unwrap_err().0.contains("-mesh_h"));
+    }
+
+    #[test]
     fn deterministic() {
         assert_eq!(generate(0.3).unwrap(), generate(0.3).unwrap());
     }

@@ -2,8 +2,9 @@
 //! distribution over the ranks (`partition`).
 //!
 //! A [`Mesh`] holds linear (first-order) cells: P1 triangles and Q1
-//! (bilinear) quadrilaterals in 2D, P1 tetrahedra and Q1 (trilinear)
-//! hexahedra in 3D, in any mix. Lower-dimensional physical groups (points,
+//! (bilinear) quadrilaterals in 2D; P1 tetrahedra, Q1 (trilinear)
+//! hexahedra, and the 6-node prisms and 5-node pyramids that join them in
+//! 3D, in any mix. Lower-dimensional physical groups (points,
 //! lines, and triangles or quadrilaterals in 3D) are kept as named
 //! [`Group`]s, since boundary conditions refer to physical-group names.
 //!
@@ -13,7 +14,7 @@
 //! pure P1 (or pure Q1) mesh costs what it did before mixed meshes, and its
 //! loops run over fixed-size chunks. A cell's kind follows from the mesh's
 //! dimension and its node count ([`CellKind::of`]): 3 or 4 nodes in 2D,
-//! 4 or 8 in 3D.
+//! 4, 5, 6 or 8 in 3D.
 
 pub mod block3d;
 pub mod distribute;
@@ -24,9 +25,10 @@ use std::fmt;
 
 /// The element shapes a mesh can hold: cells of the top dimension and
 /// boundary facets (points, lines, triangles, quadrilaterals). Node order
-/// is Gmsh's (which is also VTK's for all of these): counter-clockwise
-/// corners for a quadrilateral, the bottom face's four corners then the top
-/// face's for a hexahedron.
+/// is Gmsh's: counter-clockwise corners for a quadrilateral, the bottom
+/// face's four corners then the top face's for a hexahedron, the bottom
+/// triangle then the top one for a prism, the base quadrilateral then the
+/// apex for a pyramid.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum CellKind {
     Point,
@@ -35,6 +37,8 @@ pub enum CellKind {
     Quadrilateral,
     Tetrahedron,
     Hexahedron,
+    Prism,
+    Pyramid,
 }
 
 impl CellKind {
@@ -47,6 +51,8 @@ impl CellKind {
             (2, 4) => Some(CellKind::Quadrilateral),
             (3, 4) => Some(CellKind::Tetrahedron),
             (3, 8) => Some(CellKind::Hexahedron),
+            (3, 6) => Some(CellKind::Prism),
+            (3, 5) => Some(CellKind::Pyramid),
             _ => None,
         }
     }
@@ -56,7 +62,7 @@ impl CellKind {
             CellKind::Point => 0,
             CellKind::Line => 1,
             CellKind::Triangle | CellKind::Quadrilateral => 2,
-            CellKind::Tetrahedron | CellKind::Hexahedron => 3,
+            CellKind::Tetrahedron | CellKind::Hexahedron | CellKind::Prism | CellKind::Pyramid => 3,
         }
     }
 
@@ -67,6 +73,8 @@ impl CellKind {
             CellKind::Triangle => 3,
             CellKind::Quadrilateral | CellKind::Tetrahedron => 4,
             CellKind::Hexahedron => 8,
+            CellKind::Prism => 6,
+            CellKind::Pyramid => 5,
         }
     }
 
@@ -79,6 +87,8 @@ impl CellKind {
             CellKind::Quadrilateral => "quadrilateral",
             CellKind::Tetrahedron => "tetrahedron",
             CellKind::Hexahedron => "hexahedron",
+            CellKind::Prism => "prism",
+            CellKind::Pyramid => "pyramid",
         }
     }
 
@@ -91,6 +101,8 @@ impl CellKind {
             CellKind::Quadrilateral => "quadrilaterals",
             CellKind::Tetrahedron => "tetrahedra",
             CellKind::Hexahedron => "hexahedra",
+            CellKind::Prism => "prisms",
+            CellKind::Pyramid => "pyramids",
         }
     }
 }
@@ -353,7 +365,8 @@ impl Mesh {
         CellKind::of(self.dim, self.cells.get(c).len()).expect("a cell of a known kind")
     }
 
-    /// "triangles", "quadrilaterals", or "triangles and quadrilaterals" (3D alike).
+    /// "triangles", "quadrilaterals", or "triangles and quadrilaterals";
+    /// "tetrahedra, pyramids and hexahedra" (kinds by node count).
     pub fn cell_kinds_label(&self) -> String {
         kinds_label(self.dim, &self.cells)
     }
@@ -476,13 +489,11 @@ pub fn kinds_label(dim: usize, cells: &Cells) -> String {
         }
         kinds.sort_by_key(|k| k.nodes());
     }
-    match kinds.len() {
+    let names: Vec<&str> = kinds.iter().map(|k| k.plural()).collect();
+    match names.len() {
         0 => if dim == 2 { "triangles" } else { "tetrahedra" }.to_string(),
-        _ => kinds
-            .iter()
-            .map(|k| k.plural())
-            .collect::<Vec<_>>()
-            .join(" and "),
+        1 => names[0].to_string(),
+        n => format!("{} and {}", names[..n - 1].join(", "), names[n - 1]),
     }
 }
 
@@ -521,7 +532,13 @@ mod tests {
     fn kinds_and_labels() {
         assert_eq!(CellKind::of(2, 4), Some(CellKind::Quadrilateral));
         assert_eq!(CellKind::of(3, 4), Some(CellKind::Tetrahedron));
-        assert_eq!(CellKind::of(3, 6), None);
+        assert_eq!(CellKind::of(3, 6), Some(CellKind::Prism));
+        assert_eq!(CellKind::of(2, 6), None);
+        let all: Cells = [4, 5, 6, 8].iter().map(|&k| (0..k).collect()).collect();
+        assert_eq!(
+            kinds_label(3, &all),
+            "tetrahedra, pyramids, prisms and hexahedra"
+        );
         let mixed: Cells = vec![vec![0, 1, 2, 3], vec![0, 1, 2]].into_iter().collect();
         assert_eq!(kinds_label(2, &mixed), "triangles and quadrilaterals");
         assert_eq!(kinds_label(3, &Cells::uniform(vec![0; 8], 8)), "hexahedra");

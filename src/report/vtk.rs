@@ -2,7 +2,8 @@
 //!
 //! Each rank writes its own part of the mesh with [`write_vtu`] (an XML
 //! `UnstructuredGrid` of linear cells: triangles and quadrilaterals in 2D,
-//! tetrahedra and hexahedra in 3D, in any mix), and
+//! tetrahedra, hexahedra, prisms (VTK wedges, their points reordered) and
+//! pyramids in 3D, in any mix), and
 //! rank 0 writes the `.pvtu` index with [`write_pvtu`], which names the pieces
 //! by file names relative to the index's directory and declares the same
 //! fields. ParaView opens the `.pvtu` and shows the whole mesh.
@@ -50,16 +51,32 @@ const VTK_QUAD: u8 = 9;
 const VTK_TETRA: u8 = 10;
 /// VTK cell type of a trilinear hexahedron.
 const VTK_HEXAHEDRON: u8 = 12;
+/// VTK cell type of a linear wedge (prism).
+const VTK_WEDGE: u8 = 13;
+/// VTK cell type of a linear pyramid.
+const VTK_PYRAMID: u8 = 14;
 
-/// The VTK type of a cell of `n` points in dimension `dim` (Gmsh's node
-/// order is VTK's for all four kinds).
+/// The VTK type of a cell of `n` points in dimension `dim`.
 fn vtk_cell_type(dim: usize, n: usize) -> Option<u8> {
     match (dim, n) {
         (2, 3) => Some(VTK_TRIANGLE),
         (2, 4) => Some(VTK_QUAD),
         (3, 4) => Some(VTK_TETRA),
         (3, 8) => Some(VTK_HEXAHEDRON),
+        (3, 6) => Some(VTK_WEDGE),
+        (3, 5) => Some(VTK_PYRAMID),
         _ => None,
+    }
+}
+
+/// VTK point `i` of a cell of type `ty` is point `vtk_order(ty)[i]` of the
+/// cell in Gmsh's order. Gmsh's order is VTK's except for the wedge: VTK
+/// wants its first triangle's normal (right-hand rule) to point away from
+/// the second triangle, Gmsh has it pointing toward it.
+fn vtk_order(ty: u8) -> &'static [usize] {
+    match ty {
+        VTK_WEDGE => &[0, 2, 1, 3, 5, 4],
+        _ => &[0, 1, 2, 3, 4, 5, 6, 7],
     }
 }
 
@@ -289,7 +306,13 @@ pub fn vtu_bytes(piece: &Piece) -> io::Result<Vec<u8>> {
     data_array(&mut x, "Points", "Float64", 3, &f64_bytes(&points));
     x.push_str("      </Points>\n");
 
-    let connectivity: Vec<i64> = piece.cells.iter().map(|&i| i as i64).collect();
+    let mut connectivity: Vec<i64> = Vec::with_capacity(piece.cells.len());
+    let mut begin = 0usize;
+    for (&ty, &end) in types.iter().zip(&offsets) {
+        let cell = &piece.cells[begin..end as usize];
+        connectivity.extend(vtk_order(ty)[..cell.len()].iter().map(|&a| cell[a] as i64));
+        begin = end as usize;
+    }
     x.push_str("      <Cells>\n");
     data_array(
         &mut x,
