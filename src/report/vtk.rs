@@ -870,6 +870,132 @@ print(json.dumps({
         assert_eq!(as_f64s(&cd["rank"][2]), ints);
     }
 
+    const VTK_SIZES: &str = r#"
+import json, sys
+import vtk
+r = vtk.vtkXMLUnstructuredGridReader()
+r.SetFileName(sys.argv[1])
+r.Update()
+g = r.GetOutput()
+f = vtk.vtkCellSizeFilter()
+f.SetInputData(g)
+f.Update()
+cd = f.GetOutput().GetCellData()
+key = "Volume" if g.GetCell(0).GetCellDimension() == 3 else "Area"
+print(json.dumps({
+    "types": [g.GetCellType(c) for c in range(g.GetNumberOfCells())],
+    "sizes": [cd.GetArray(key).GetValue(c) for c in range(g.GetNumberOfCells())],
+}))
+"#;
+
+    /// A unit square as a quadrilateral and two triangles (2D); a unit cube
+    /// as a hexahedron, with a prism, a pyramid and a tetrahedron beside it (3D).
+    fn mixed(dim: usize) -> Data {
+        let (coords, cells, offsets) = if dim == 2 {
+            (
+                vec![0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0, 2.0, 0.0, 2.0, 1.0],
+                vec![0, 1, 2, 3, 1, 4, 5, 1, 5, 2],
+                vec![4, 7, 10],
+            )
+        } else {
+            let mut x = Vec::new();
+            for z in [0.0, 1.0] {
+                for (px, py) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+                    x.extend_from_slice(&[px, py, z]);
+                }
+            }
+            // 8, 9: the prism's far edge (x = 2, y = 0); 10: the pyramid's
+            // apex (x = 0.5, y = 0.5, z = 2); 11: the tetrahedron's last node.
+            x.extend_from_slice(&[2.0, 0.0, 0.0, 2.0, 0.0, 1.0, 0.5, 0.5, 2.0, 1.5, 1.5, 2.0]);
+            (
+                x,
+                [
+                    &[0, 1, 2, 3, 4, 5, 6, 7][..],
+                    &[1, 8, 2, 5, 9, 6],
+                    &[4, 5, 6, 7, 10],
+                    &[5, 6, 10, 11],
+                ]
+                .concat(),
+                vec![8, 14, 19, 23],
+            )
+        };
+        let np = coords.len() / dim;
+        let nc = offsets.len();
+        Data {
+            dim,
+            coords,
+            cells,
+            offsets,
+            p_scalar: vec![1.0; np],
+            p_vector: vec![0.5; 3 * np],
+            p_tensor: vec![0.25; 9 * np],
+            p_int: vec![3; np],
+            c_scalar: (0..nc).map(|c| c as f64).collect(),
+            c_vector: vec![1.0; 3 * nc],
+            c_tensor: vec![2.0; 9 * nc],
+            c_int: vec![0; nc],
+        }
+    }
+
+    #[test]
+    fn mixed_cells_read_back_with_vtk_and_meshio() {
+        let dir = temp_dir("mixed");
+        for (dim, types, sizes) in [
+            (
+                2,
+                vec![VTK_QUAD, VTK_TRIANGLE, VTK_TRIANGLE],
+                vec![1.0, 0.5, 0.5],
+            ),
+            (
+                3,
+                vec![VTK_HEXAHEDRON, VTK_WEDGE, VTK_PYRAMID, VTK_TETRA],
+                vec![1.0, 0.5, 1.0 / 3.0, 1.0 / 6.0],
+            ),
+        ] {
+            let d = mixed(dim);
+            let path = dir.join(format!("mixed{dim}.vtu"));
+            write_vtu(&path, &d.piece()).expect("write the piece");
+            // VTK: the right types, and positive measures (the wedge's
+            // points reordered).
+            let got = run_python("vtk", "python3-vtk9", VTK_SIZES, &[&path]);
+            let t: Vec<u8> = got["types"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_u64().unwrap() as u8)
+                .collect();
+            assert_eq!(t, types);
+            let v = as_f64s(&got["sizes"]);
+            for (a, b) in v.iter().zip(&sizes) {
+                assert!((a - b).abs() < 1e-12, "{v:?} vs {sizes:?}");
+            }
+            // meshio: one block per kind, in file order.
+            let got = run_python("meshio", "python3-meshio", MESHIO_DUMP, &[&path]);
+            let blocks: Vec<&str> = got["cells"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|b| b[0].as_str().unwrap())
+                .collect();
+            let want: &[&str] = if dim == 2 {
+                &["quad", "triangle"]
+            } else {
+                &["hexahedron", "wedge", "pyramid", "tetra"]
+            };
+            assert_eq!(blocks, want);
+            // (The dump shows the first block's cell data: one cell.)
+            assert_eq!(as_f64s(&got["cell_data"]["von_mises"][2]), [d.c_scalar[0]]);
+        }
+        // Offsets that do not describe linear cells are refused.
+        let mut d = mixed(2);
+        d.offsets = vec![4, 6, 10];
+        let e = vtu_bytes(&d.piece()).expect_err("a 2-point cell");
+        assert!(e.to_string().contains("cell 1 has 2 points"), "{e}");
+        d.offsets = vec![4, 7];
+        assert!(vtu_bytes(&d.piece()).is_err());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
     #[test]
     fn base64_matches_rfc4648() {
         for (input, want) in [
