@@ -504,8 +504,9 @@ fn mixed_meshes_match_pure_ones() {
 }
 
 /// -n 1, 2, 3 agree on mixed meshes to 1e-8 (of the peak pressure) at a
-/// tight tolerance: the 3D hexahedra + pyramids + tetrahedra and hexahedra
-/// + prisms blocks and the 2D triangles + quadrilaterals Hertz quarter.
+/// tight tolerance: the 3D blocks of hexahedra, pyramids and tetrahedra
+/// and of hexahedra and prisms, and the 2D Hertz quarter of triangles and
+/// quadrilaterals.
 /// MUMPS gets 60% more workspace than it estimates (`-mat_mumps_icntl_14
 /// 60`): on 3 ranks the extruded block's factorization ran out of it in 3
 /// runs of 30 with the default (a PC_FACTOR_OUTMEMORY failure), in none of
