@@ -19,45 +19,63 @@ use std::time::Instant;
 fn load_mesh(source: &MeshSource) -> Result<Mesh, Error> {
     let mesh = match source {
         MeshSource::File(path) => mesh::gmsh::read_gmsh(std::path::Path::new(path))?,
-        MeshSource::Generate { name, h } => match name.as_str() {
-            "hertz2d" => mesh::hertz2d::generate(*h)?,
-            "block3d" => mesh::block3d::generate(*h)?,
-            other => return bad(format!("option -mesh_generate: unknown mesh '{other}'")),
+        MeshSource::Generate { name, h, q1 } => match (name.as_str(), q1) {
+            ("hertz2d", false) => mesh::hertz2d::generate(*h)?,
+            ("hertz2d", true) => mesh::hertz2d::generate_quad(*h)?,
+            ("block3d", false) => mesh::block3d::generate(*h)?,
+            ("block3d", true) => mesh::block3d::generate_hex(*h)?,
+            (other, _) => return bad(format!("option -mesh_generate: unknown mesh '{other}'")),
         },
     };
     // Cells of both orientations: the minority ones are inverted (a broken
-    // mesh, e.g. a node moved across an edge); name the first of them.
-    let positive = (0..mesh.num_cells())
-        .filter(|&c| mesh.signed_measure(c) > 0.0)
-        .count();
+    // mesh, e.g. a node moved across an edge); name the first of them. The
+    // orientation is the sign of the Jacobian determinant, constant on a
+    // simplex, taken at every Gauss point of a Q1 cell: a sign change
+    // inside one means it is folded.
+    let ranges: Vec<(f64, f64)> = (0..mesh.num_cells())
+        .map(|c| mesh.jacobian_range(c))
+        .collect();
+    let positive = ranges.iter().filter(|r| r.0 > 0.0).count();
     let negative_is_minority = 2 * positive >= mesh.num_cells();
-    for c in 0..mesh.num_cells() {
-        let m = mesh.signed_measure(c);
-        let inverted = m.is_finite() && m != 0.0 && ((m < 0.0) == negative_is_minority);
+    let nodes_of = |c: usize| -> String {
+        let tags: Vec<String> = mesh
+            .cells
+            .get(c)
+            .iter()
+            .map(|&v| mesh.node_tags[v].to_string())
+            .collect();
+        tags.join(" ")
+    };
+    for (c, &(lo, hi)) in ranges.iter().enumerate() {
+        let finite = lo.is_finite() && hi.is_finite();
+        let kind = mesh.cell_kind(c);
+        if finite && lo < 0.0 && hi > 0.0 {
+            return bad(format!(
+                "mesh: element {} (nodes {}) is folded: its Jacobian determinant changes sign inside it (from {lo:.3e} to {hi:.3e} at its Gauss points; a {} with its nodes out of order, or not convex)",
+                mesh.cell_tag(c),
+                nodes_of(c),
+                kind.name()
+            ));
+        }
+        let inverted = finite && (lo > 0.0 || hi < 0.0) && ((hi < 0.0) == negative_is_minority);
         if inverted && positive != 0 && positive != mesh.num_cells() {
-            let k = mesh.dim + 1;
-            let tags: Vec<String> = mesh.cells[c * k..(c + 1) * k]
-                .iter()
-                .map(|&v| mesh.node_tags[v].to_string())
-                .collect();
             return bad(format!(
                 "mesh: element {} (nodes {}) is inverted: its orientation is opposite to that of the other {} cells",
                 mesh.cell_tag(c),
-                tags.join(" "),
+                nodes_of(c),
                 if negative_is_minority { positive } else { mesh.num_cells() - positive }
             ));
         }
-        if !m.is_finite() || m == 0.0 {
-            let k = mesh.dim + 1;
-            let tags: Vec<String> = mesh.cells[c * k..(c + 1) * k]
-                .iter()
-                .map(|&v| mesh.node_tags[v].to_string())
-                .collect();
+        if !finite || lo == 0.0 || hi == 0.0 {
             return bad(format!(
                 "mesh: element {} (nodes {}) is degenerate: zero {}",
                 mesh.cell_tag(c),
-                tags.join(" "),
-                if mesh.dim == 2 { "area" } else { "volume" }
+                nodes_of(c),
+                match (mesh.dim, lo == hi) {
+                    (2, true) => "area",
+                    (3, true) => "volume",
+                    _ => "Jacobian determinant at a Gauss point",
+                }
             ));
         }
     }
@@ -67,7 +85,14 @@ fn load_mesh(source: &MeshSource) -> Result<Mesh, Error> {
 fn mesh_label(source: &MeshSource) -> String {
     match source {
         MeshSource::File(p) => p.clone(),
-        MeshSource::Generate { name, h } => format!("generated {name}, h = {h}"),
+        MeshSource::Generate { name, h, q1 } => format!(
+            "generated {name}, h = {h}{}",
+            match (q1, name.as_str()) {
+                (false, _) => "",
+                (true, "hertz2d") => ", quadrilaterals",
+                (true, _) => ", hexahedra",
+            }
+        ),
     }
 }
 
@@ -615,8 +640,9 @@ fn write_vtk<C: Communicator>(
     // Cells this rank writes.
     let mine: Vec<usize> = (0..local.num_cells())
         .filter(|&c| {
-            let cell = &local.cells[c * k..(c + 1) * k];
-            let gmin = cell
+            let gmin = local
+                .cells
+                .get(c)
                 .iter()
                 .map(|&v| local.node_global[v])
                 .min()
@@ -625,17 +651,21 @@ fn write_vtk<C: Communicator>(
         })
         .collect();
     let mut cells = Vec::with_capacity(mine.len() * k);
+    let mut offsets = Vec::with_capacity(mine.len());
     let mut stress = Vec::with_capacity(mine.len() * 9);
     let mut von_mises = Vec::with_capacity(mine.len());
-    let mut xs = vec![0.0; k * d];
-    let mut us = vec![0.0; k * d];
+    let mut xs = Vec::with_capacity(8 * d);
+    let mut us = Vec::with_capacity(8 * d);
     for &c in &mine {
-        let cell = &local.cells[c * k..(c + 1) * k];
-        for (a, &v) in cell.iter().enumerate() {
-            xs[a * d..(a + 1) * d].copy_from_slice(local.x(v));
-            us[a * d..(a + 1) * d].copy_from_slice(&u_local[v * d..(v + 1) * d]);
+        let cell = local.cells.get(c);
+        xs.clear();
+        us.clear();
+        for &v in cell {
+            xs.extend_from_slice(local.x(v));
+            us.extend_from_slice(&u_local[v * d..(v + 1) * d]);
         }
         cells.extend_from_slice(cell);
+        offsets.push(cells.len());
         let (sig, vm) = crate::fem::stress::cell_stress(d, &xs, &us, s.young, s.nu, s.plane_stress);
         stress.extend_from_slice(&sig);
         von_mises.push(vm);
@@ -664,6 +694,7 @@ fn write_vtk<C: Communicator>(
         dim: d,
         coords: &local.coords,
         cells: &cells,
+        offsets: &offsets,
         point_data: vec![
             Field::Vector("displacement", &disp),
             Field::Scalar("contact_pressure", &pressure),
@@ -1223,11 +1254,7 @@ fn print_summary(m: &Summary) {
     let res = m.solved;
     let t = m.times;
     let diag = m.diag;
-    let cells = if local.dim == 2 {
-        "triangles"
-    } else {
-        "tetrahedra"
-    };
+    let cells = &local.cell_kinds;
     let what = match s.friction {
         Friction::None => "frictionless",
         Friction::Tresca => "Tresca friction",

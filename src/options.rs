@@ -11,6 +11,7 @@ pub const HELP: &[(&str, &str, &str)] = &[
     ("-mesh FILE", "none", "Gmsh mesh (.msh 2.2 or 4.1, ASCII or binary); boundary conditions name its physical groups"),
     ("-mesh_generate NAME", "none", "built-in mesh, wins over -mesh: hertz2d (quarter cylinder, section 7.1) or block3d (the block of section 7.2)"),
     ("-mesh_h H", "0.5", "element size of -mesh_generate"),
+    ("-mesh_element tri|quad|tet|hex", "tri (hertz2d), tet (block3d)", "cells of -mesh_generate: P1 triangles or Q1 quadrilaterals (hertz2d), P1 tetrahedra or Q1 hexahedra (block3d)"),
     ("-E VALUE", "required", "Young's modulus"),
     ("-nu VALUE", "required", "Poisson's ratio, in (-1, 0.5)"),
     ("-plane_stress", "false", "2D: plane stress instead of plane strain"),
@@ -83,7 +84,12 @@ pub fn print_help() {
 #[derive(Clone, Debug, PartialEq)]
 pub enum MeshSource {
     File(String),
-    Generate { name: String, h: f64 },
+    /// A built-in mesh; `q1`: quadrilaterals / hexahedra instead of simplices.
+    Generate {
+        name: String,
+        h: f64,
+        q1: bool,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -295,6 +301,9 @@ impl Settings {
             // -mesh_generate wins, so that `-options_file F -mesh_generate hertz2d`
             // reruns a scene of F on a generated mesh.
             (Some(f), None) if f.trim().is_empty() => return bad("option -mesh needs a file name"),
+            (Some(_), None) if get("-mesh_element")?.is_some() => {
+                return bad("option -mesh_element applies to -mesh_generate only (a mesh file has its own cells)")
+            }
             (Some(f), None) => MeshSource::File(f.trim().to_string()),
             (_, Some(g)) => {
                 let name = g.trim().to_string();
@@ -307,7 +316,22 @@ impl Settings {
                 if h <= 0.0 {
                     return bad(format!("option -mesh_h: {h} is not positive"));
                 }
-                MeshSource::Generate { name, h }
+                let (simplex, q1) = if name == "hertz2d" {
+                    ("tri", "quad")
+                } else {
+                    ("tet", "hex")
+                };
+                let q1 = match get("-mesh_element")?.as_deref().map(str::trim) {
+                    None => false,
+                    Some(e) if e == simplex => false,
+                    Some(e) if e == q1 => true,
+                    Some(e) => {
+                        return bad(format!(
+                            "option -mesh_element: '{e}' is not a cell of -mesh_generate {name} ({simplex} or {q1})"
+                        ))
+                    }
+                };
+                MeshSource::Generate { name, h, q1 }
             }
             (None, None) => {
                 return bad("no mesh: give -mesh FILE or -mesh_generate hertz2d|block3d")

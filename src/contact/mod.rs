@@ -3,7 +3,7 @@
 //! pointwise projections of the paper, (4.15) and (5.5).
 
 use crate::error::{bad, Error};
-use crate::fem::facet_measure;
+use crate::fem::element::facet_weights;
 use crate::mesh::distribute::LocalMesh;
 use crate::options::{ContactSettings, Obstacle};
 
@@ -78,13 +78,17 @@ impl ContactSet {
         // Weights of every owned node of the surface.
         let mut weight = vec![0.0; mesh.owned_count];
         let mut on_surface = vec![false; mesh.owned_count];
-        let m = group.nodes_per_element();
-        for e in group.conn.chunks(m) {
+        // w_i: sum over the facets of the surface touching node i of the
+        // facet's nodal weight (measure / vertices for a simplex facet;
+        // int N_i dA for a quadrilateral, a quarter of a parallelogram;
+        // `element::facet_weights`).
+        let mut share = Vec::with_capacity(4);
+        for e in &group.conn {
             let pts: Vec<&[f64]> = e.iter().map(|&v| mesh.x(v)).collect();
-            let share = facet_measure(&pts) / m as f64;
-            for &v in e {
+            facet_weights(&pts, &mut share);
+            for (&v, &w) in e.iter().zip(&share) {
                 if mesh.is_owned(v) {
-                    weight[v] += share;
+                    weight[v] += w;
                     on_surface[v] = true;
                 }
             }
