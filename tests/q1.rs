@@ -18,6 +18,13 @@ const TIGHT: [&str; 6] = [
     "1e-10",
 ];
 
+/// The Hertz scene of options/hertz (at the defaults) on another mesh.
+fn hertz_scene<'a>(mesh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec!["-options_file", "options/hertz", "-mesh", mesh];
+    v.extend_from_slice(extra);
+    v
+}
+
 /// Writes a Gmsh 2.2 ASCII mesh: `x` three coordinates per node (tags
 /// 1..), `cells` 0-based, `groups` named facet (or edge) groups.
 fn write_msh(
@@ -364,8 +371,8 @@ fn hertz_on_quadrilaterals() {
         ("meshes/hertz_quad_1692.msh", "meshes/hertz_1692.msh"),
         ("meshes/hertz_mixed_1692.msh", "meshes/hertz_1692.msh"),
     ] {
-        let (_, rq, _) = solve_rows("q1-hertz", 1, &hertz_args(quad, &TIGHT));
-        let (_, rp, _) = solve_rows("q1-hertz-p1", 1, &hertz_args(p1, &TIGHT));
+        let (_, rq, _) = solve_rows("q1-hertz", 1, &hertz_scene(quad, &TIGHT));
+        let (_, rp, _) = solve_rows("q1-hertz-p1", 1, &hertz_scene(p1, &TIGHT));
         let (nq, np) = (num(&rq, "nodes"), num(&rp, "nodes"));
         assert!((nq - np).abs() < 0.013 * np, "{quad}: {nq} nodes vs {np}");
         let force = num(&rq, "contact_force");
@@ -453,7 +460,7 @@ fn generated_quadrilaterals_and_hexahedra() {
 #[test]
 fn mixed_meshes_match_pure_ones() {
     let p = |mesh: &str| {
-        let (_, r, rows) = solve_rows("q1-mixed2d", 1, &hertz_args(mesh, &TIGHT));
+        let (_, r, rows) = solve_rows("q1-mixed2d", 1, &hertz_scene(mesh, &TIGHT));
         (r, rows)
     };
     let (rm, mixed) = p("meshes/hertz_mixed_1692.msh");
@@ -526,7 +533,7 @@ fn mixed_meshes_rank_counts_agree() {
             "-mesh",
             "meshes/block3d_extruded_1674.msh",
         ],
-        hertz_args("meshes/hertz_mixed_1692.msh", &[]),
+        hertz_scene("meshes/hertz_mixed_1692.msh", &[]),
     ] {
         let args = [
             &args[..],
@@ -618,7 +625,7 @@ fn bad_quadrilaterals_hexahedra_and_types() {
         let p = path.to_str().unwrap();
         let mut w = words.clone();
         w.push(&nodes[0]);
-        expect(&hertz_args(p, &[]), &w);
+        expect(&hertz_scene(p, &[]), &w);
     }
     // Hexahedra: the 27-cell cube with cell 5 upside down (inverted) or two
     // nodes swapped (folded); the tags count the 2.2 file's facets first.
@@ -669,11 +676,11 @@ fn bad_quadrilaterals_hexahedra_and_types() {
     )
     .unwrap();
     expect(
-        &hertz_args(path.to_str().unwrap(), &[]),
+        &hertz_scene(path.to_str().unwrap(), &[]),
         &["p2.msh:15: second-order triangle (Gmsh type 9) is not supported"],
     );
     expect(
-        &hertz_args("meshes/hertz_442.msh", &["-mesh_element", "quad"]),
+        &hertz_scene("meshes/hertz_442.msh", &["-mesh_element", "quad"]),
         &["-mesh_element applies to -mesh_generate only"],
     );
     expect(
