@@ -6,10 +6,15 @@
 //   gmsh -2 -format msh41 -setnumber h 0.36 hertz.geo -o hertz.msh
 // Optionally pin the number of contact-arc nodes (uniform spacing):
 //   gmsh -2 -format msh41 -setnumber h 0.36 -setnumber n_arc 35 hertz.geo -o hertz.msh
+// Q1 quadrilaterals (recombine 1: Gmsh's default Blossom recombination, all
+// quadrilaterals here) or triangles mixed with quadrilaterals (recombine 2:
+// the "simple" recombination, which leaves some triangles):
+//   gmsh -2 -format msh41 -setnumber h 0.199 -setnumber n_arc 69 -setnumber recombine 1 hertz.geo -o q.msh
 // The shipped meshes hertz_*.msh: see README.md.
 DefineConstant[
   h = {0.5, Name "h"},          // characteristic length (element size)
-  n_arc = {0, Name "n_arc"}     // if > 0: number of nodes on the contact arc
+  n_arc = {0, Name "n_arc"},    // if > 0: number of nodes on the contact arc
+  recombine = {0, Name "recombine"}  // 0: triangles, 1: quadrilaterals (Blossom), 2: mixed (simple)
 ];
 R = 8;
 
@@ -27,6 +32,10 @@ EndIf
 
 Curve Loop(1) = {1, 2, 3};
 Plane Surface(1) = {1};
+If (recombine > 0)
+  Recombine Surface{1};
+  Mesh.RecombinationAlgorithm = (recombine == 1) ? 1 : 0;
+EndIf
 
 Physical Curve("contact") = {1};
 Physical Curve("symmetry") = {3};

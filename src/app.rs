@@ -7,8 +7,8 @@
 
 use crate::contact::ContactSet;
 use crate::error::{bad, Error};
-use crate::mesh::{self, distribute, distribute::LocalMesh, Mesh};
-use crate::options::{self, unused::Unused, Friction, MeshSource, Settings};
+use crate::mesh::{self, distribute, distribute::LocalMesh};
+use crate::options::{self, unused::Unused, Friction, Settings};
 use crate::petsc::{self, Events, Stages};
 use crate::report::{self, files, ContactRow, Results, Times, Totals};
 use crate::solver::checks::{self, Deformation, Diagnostics, Forces};
@@ -76,54 +76,6 @@ struct Checked {
     shape: Deformation,
 }
 
-fn load_mesh(source: &MeshSource) -> Result<Mesh, Error> {
-    let mesh = match source {
-        MeshSource::File(path) => mesh::gmsh::read_gmsh(std::path::Path::new(path))?,
-        MeshSource::Generate { name, h } => match name.as_str() {
-            "hertz2d" => mesh::hertz2d::generate(*h)?,
-            "block3d" => mesh::block3d::generate(*h)?,
-            other => return bad(format!("option -mesh_generate: unknown mesh '{other}'")),
-        },
-    };
-    // Cells of both orientations: the minority ones are inverted (a broken
-    // mesh, e.g. a node moved across an edge); name the first of them.
-    let positive = (0..mesh.num_cells())
-        .filter(|&c| mesh.signed_measure(c) > 0.0)
-        .count();
-    let negative_is_minority = 2 * positive >= mesh.num_cells();
-    for c in 0..mesh.num_cells() {
-        let m = mesh.signed_measure(c);
-        let inverted = m.is_finite() && m != 0.0 && ((m < 0.0) == negative_is_minority);
-        if inverted && positive != 0 && positive != mesh.num_cells() {
-            let k = mesh.dim + 1;
-            let tags: Vec<String> = mesh.cells[c * k..(c + 1) * k]
-                .iter()
-                .map(|&v| mesh.node_tags[v].to_string())
-                .collect();
-            return bad(format!(
-                "mesh: element {} (nodes {}) is inverted: its orientation is opposite to that of the other {} cells",
-                mesh.cell_tag(c),
-                tags.join(" "),
-                if negative_is_minority { positive } else { mesh.num_cells() - positive }
-            ));
-        }
-        if !m.is_finite() || m == 0.0 {
-            let k = mesh.dim + 1;
-            let tags: Vec<String> = mesh.cells[c * k..(c + 1) * k]
-                .iter()
-                .map(|&v| mesh.node_tags[v].to_string())
-                .collect();
-            return bad(format!(
-                "mesh: element {} (nodes {}) is degenerate: zero {}",
-                mesh.cell_tag(c),
-                tags.join(" "),
-                if mesh.dim == 2 { "area" } else { "volume" }
-            ));
-        }
-    }
-    Ok(mesh)
-}
-
 impl<'w, C: Communicator> ContactProblem<'w, C> {
     fn new(world: &'w C) -> Result<Self, Error> {
         let start = Instant::now();
@@ -183,7 +135,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             self.world,
             || {
                 let (t, _guard) = (Instant::now(), stages.mesh.push()?);
-                let mesh = load_mesh(source);
+                let mesh = mesh::load(source);
                 t_mesh = t.elapsed().as_secs_f64();
                 mesh
             },

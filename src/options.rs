@@ -16,7 +16,12 @@ use declared::*;
 #[derive(Clone, Debug, PartialEq)]
 pub enum MeshSource {
     File(String),
-    Generate { name: String, h: f64 },
+    /// A built-in mesh; `q1`: quadrilaterals / hexahedra instead of simplices.
+    Generate {
+        name: String,
+        h: f64,
+        q1: bool,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -200,18 +205,38 @@ fn positive(name: &str, v: f64) -> Result<f64, Error> {
 fn mesh_source() -> Result<MeshSource, Error> {
     // -mesh_generate wins, so that `-options_file F -mesh_generate hertz2d`
     // reruns a scene of F on a generated mesh.
-    let given = MESH_GENERATE.get()?;
-    if MESH_GENERATE.default.values.contains(&given) {
-        let h = positive(MESH_H.name, MESH_H.get()?)?;
-        return Ok(MeshSource::Generate {
-            name: given.to_string(),
-            h,
-        });
+    let name = MESH_GENERATE.get()?;
+    let element = MESH_ELEMENT.word()?;
+    if !MESH_GENERATE.default.values.contains(&name) {
+        if element.is_some() {
+            return bad("option -mesh_element applies to -mesh_generate only (a mesh file has its own cells)");
+        }
+        return match MESH.word()? {
+            Some(f) => Ok(MeshSource::File(f)),
+            None => bad("no mesh: give -mesh FILE or -mesh_generate hertz2d|block3d"),
+        };
     }
-    match MESH.word()? {
-        Some(f) => Ok(MeshSource::File(f)),
-        None => bad("no mesh: give -mesh FILE or -mesh_generate hertz2d|block3d"),
-    }
+    let h = positive(MESH_H.name, MESH_H.get()?)?;
+    let (simplex, q1) = if name == "hertz2d" {
+        ("tri", "quad")
+    } else {
+        ("tet", "hex")
+    };
+    let q1 = match element.as_deref() {
+        None => false,
+        Some(e) if e == simplex => false,
+        Some(e) if e == q1 => true,
+        Some(e) => {
+            return bad(format!(
+                "option -mesh_element: '{e}' is not a cell of -mesh_generate {name} ({simplex} or {q1})"
+            ))
+        }
+    };
+    Ok(MeshSource::Generate {
+        name: name.to_string(),
+        h,
+        q1,
+    })
 }
 
 /// Dirichlet conditions, tractions and pressures by group, and the body force.

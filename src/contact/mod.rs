@@ -3,7 +3,7 @@
 //! pointwise projections of the paper, (4.15) and (5.5).
 
 use crate::error::{bad, Error};
-use crate::fem::facet_measure;
+use crate::fem::element::facet_weights;
 use crate::mesh::distribute::LocalMesh;
 use crate::options::ContactSettings;
 pub use obstacle::{gap, Obstacle};
@@ -78,19 +78,23 @@ impl ContactSet {
         let mut weight = vec![0.0; mesh.owned_count];
         let mut on_surface = vec![false; mesh.owned_count];
         let mut seen = std::collections::HashSet::new();
+        // w_i: sum over the facets of the surfaces touching node i of the
+        // facet's nodal weight (measure / vertices for a simplex facet;
+        // int N_i dA for a quadrilateral, a quarter of a parallelogram;
+        // `element::facet_weights`); a facet in two surfaces counts once.
+        let mut share = Vec::with_capacity(4);
         for group in groups {
-            let m = group.nodes_per_element();
-            for e in group.conn.chunks(m) {
+            for e in &group.conn {
                 let mut key = e.to_vec();
                 key.sort_unstable();
                 if !seen.insert(key) {
                     continue;
                 }
                 let pts: Vec<&[f64]> = e.iter().map(|&v| mesh.x(v)).collect();
-                let share = facet_measure(&pts) / m as f64;
-                for &v in e {
+                facet_weights(&pts, &mut share);
+                for (&v, &w) in e.iter().zip(&share) {
                     if mesh.is_owned(v) {
-                        weight[v] += share;
+                        weight[v] += w;
                         on_surface[v] = true;
                     }
                 }

@@ -4,6 +4,7 @@
 //! deformed one, `grad u = (J' - J) J^-1` and the cell inverts where
 //! `det J'` and `det J` differ in sign.
 
+use super::element;
 use nalgebra::{SMatrix, SymmetricEigen};
 
 macro_rules! deformation {
@@ -28,14 +29,44 @@ macro_rules! deformation {
     }};
 }
 
-/// The largest principal strain (absolute value) of a simplex cell and
-/// whether its deformed shape is inverted; `x`, `u`: `dim` values per vertex.
+/// The largest principal strain (absolute value) of a cell and whether its
+/// deformed shape is inverted; `x`, `u`: `dim` values per vertex. A Q1 cell
+/// (or prism, pyramid): the strain at its centre, inverted where `det J` of
+/// `x + u` has the other sign than that of `x` at a Gauss point.
 pub fn cell_deformation(dim: usize, x: &[f64], u: &[f64]) -> (f64, bool) {
+    if x.len() != dim * (dim + 1) {
+        return q1_deformation(dim, x, u);
+    }
     if dim == 2 {
         deformation!(2, x, u)
     } else {
         deformation!(3, x, u)
     }
+}
+
+fn q1_deformation(dim: usize, x: &[f64], u: &[f64]) -> (f64, bool) {
+    let k = x.len() / dim;
+    let g = element::centre_gradients(dim, x);
+    let mut strain = SMatrix::<f64, 3, 3>::zeros();
+    for a in 0..k {
+        for i in 0..dim {
+            for j in 0..dim {
+                let v = 0.5 * u[a * dim + i] * g[a * dim + j];
+                strain[(i, j)] += v;
+                strain[(j, i)] += v;
+            }
+        }
+    }
+    let largest = SymmetricEigen::new(strain)
+        .eigenvalues
+        .iter()
+        .fold(0.0f64, |a: f64, e| a.max(e.abs()));
+    let moved: Vec<f64> = x.iter().zip(u).map(|(a, b)| a + b).collect();
+    let inverted = element::jacobians(dim, x)
+        .iter()
+        .zip(element::jacobians(dim, &moved))
+        .any(|((_, d0), (_, d1))| d0 * d1 <= 0.0);
+    (largest, inverted)
 }
 
 #[cfg(test)]

@@ -3,7 +3,7 @@
 //! unmodified stiffness applied to a displacement at chosen rows, for the
 //! reaction forces of the Dirichlet groups.
 
-use super::{facet_measure, hooke_2d, hooke_3d, stiffness_2d, stiffness_3d, traction_load};
+use super::{cell_stiffness, element, traction_load, Kernels};
 use crate::error::{bad, Error};
 use crate::mesh::distribute::LocalMesh;
 use crate::options::Settings;
@@ -78,10 +78,9 @@ fn pressure_load(mesh: &LocalMesh, settings: &Settings, f: &mut [f64]) -> Result
         return Ok(());
     }
     let d = mesh.dim;
-    let k = d + 1;
     // The cells around each node (local cells: every cell of an owned node).
     let mut cells_of: HashMap<usize, Vec<usize>> = HashMap::new();
-    for (c, cell) in mesh.cells.chunks(k).enumerate() {
+    for (c, cell) in mesh.cells.iter().enumerate() {
         for &v in cell {
             cells_of.entry(v).or_default().push(c);
         }
@@ -89,14 +88,14 @@ fn pressure_load(mesh: &LocalMesh, settings: &Settings, f: &mut [f64]) -> Result
     for p in &settings.pressure {
         let option = format!("-pressure_{}", p.group);
         let group = mesh.group_for(&option, &p.group, d - 1..=d - 1, "a pressure")?;
-        let m = group.nodes_per_element();
-        for e in group.conn.chunks(m) {
+        let mut weights = Vec::with_capacity(4);
+        for e in &group.conn {
             if !e.iter().any(|&v| mesh.is_owned(v)) {
                 continue;
             }
             let Some(&cell) = cells_of.get(&e[0]).and_then(|cs| {
                 cs.iter()
-                    .find(|&&c| e.iter().all(|v| mesh.cells[c * k..(c + 1) * k].contains(v)))
+                    .find(|&&c| e.iter().all(|v| mesh.cells.get(c).contains(v)))
             }) else {
                 return bad(format!(
                     "option {option}: a facet of group '{}' (nodes {}) bounds no cell of the mesh",
@@ -110,12 +109,7 @@ fn pressure_load(mesh: &LocalMesh, settings: &Settings, f: &mut [f64]) -> Result
             let pts: Vec<&[f64]> = e.iter().map(|&v| mesh.x(v)).collect();
             let mut nu = facet_normal(&pts);
             let fc = centroid(d, pts.iter().copied());
-            let cc = centroid(
-                d,
-                mesh.cells[cell * k..(cell + 1) * k]
-                    .iter()
-                    .map(|&v| mesh.x(v)),
-            );
+            let cc = centroid(d, mesh.cells.get(cell).iter().map(|&v| mesh.x(v)));
             if nu
                 .iter()
                 .zip(fc.iter().zip(&cc))
@@ -125,8 +119,8 @@ fn pressure_load(mesh: &LocalMesh, settings: &Settings, f: &mut [f64]) -> Result
             {
                 nu.iter_mut().for_each(|v| *v = -*v);
             }
-            let share = facet_measure(&pts) / m as f64;
-            for &v in e {
+            element::facet_weights(&pts, &mut weights);
+            for (&v, &share) in e.iter().zip(&weights) {
                 if mesh.is_owned(v) {
                     for c in 0..d {
                         f[v * d + c] -= share * p.pressure * nu[c];
@@ -146,43 +140,22 @@ pub fn stiffness_rows(
     settings: &Settings,
     u_local: &[f64],
     wanted: &[bool],
-) -> Vec<f64> {
+) -> Result<Vec<f64>, Error> {
     let d = mesh.dim;
-    let k = d + 1;
-    let nloc = d * k;
     let mut out = vec![0.0; wanted.len()];
-    let d2 = hooke_2d(settings.young, settings.nu, settings.plane_stress);
-    let d3 = hooke_3d(settings.young, settings.nu);
+    let kernels = Kernels::new(settings, d);
+    let nmax = d * mesh.cells.max_nodes();
+    let (mut ke, mut lumped) = (vec![0.0; nmax * nmax], [0.0; 8]);
     let wants = |v: usize| mesh.is_owned(v) && (0..d).any(|c| wanted[v * d + c]);
-    let mut ke = vec![0.0; nloc * nloc];
-    for cell in mesh.cells.chunks(k) {
+    for c in 0..mesh.cells.len() {
+        let cell = mesh.cells.get(c);
         if !cell.iter().any(|&v| wants(v)) {
             continue;
         }
-        if d == 2 {
-            let x = [0, 1, 2].map(|a| {
-                let p = mesh.x(cell[a]);
-                [p[0], p[1]]
-            });
-            let (m, _) = stiffness_2d(&x, &d2);
-            ke.iter_mut()
-                .enumerate()
-                .for_each(|(i, v)| *v = m[(i / nloc, i % nloc)]);
-        } else {
-            let x = [0, 1, 2, 3].map(|a| {
-                let p = mesh.x(cell[a]);
-                [p[0], p[1], p[2]]
-            });
-            let (m, _) = stiffness_3d(&x, &d3);
-            ke.iter_mut()
-                .enumerate()
-                .for_each(|(i, v)| *v = m[(i / nloc, i % nloc)]);
-        }
+        cell_stiffness(mesh, c, &kernels, &mut ke, &mut lumped)?;
+        let nloc = d * cell.len();
         for (ia, &a) in cell.iter().enumerate() {
-            for ca in 0..d {
-                if !mesh.is_owned(a) || !wanted[a * d + ca] {
-                    continue;
-                }
+            for ca in (0..d).filter(|&ca| mesh.is_owned(a) && wanted[a * d + ca]) {
                 let row = &ke[(ia * d + ca) * nloc..(ia * d + ca + 1) * nloc];
                 out[a * d + ca] += cell
                     .iter()
@@ -193,7 +166,7 @@ pub fn stiffness_rows(
             }
         }
     }
-    out
+    Ok(out)
 }
 
 #[cfg(test)]

@@ -1,10 +1,13 @@
-//! P1 linear elasticity: element kernels, the distributed stiffness matrix with
-//! exact preallocation, surface tractions, lumped mass and Dirichlet data.
+//! Linear elasticity: element kernels (P1 here, Q1 in [`element`]), the
+//! distributed stiffness matrix with exact preallocation, surface
+//! tractions, lumped mass and Dirichlet data. Cells of any supported kind
+//! may be mixed (triangles with quadrilaterals, tetrahedra with hexahedra).
 //!
 //! Global degrees of freedom are node-major: dof `dim * node + component`, with
 //! the renumbered (rank-contiguous) global node numbers of `LocalMesh`.
 
 pub mod deformation;
+pub mod element;
 pub mod loads;
 pub mod stress;
 
@@ -99,45 +102,25 @@ pub fn stiffness_3d(x: &[[f64; 3]; 4], d: &SMatrix<f64, 6, 6>) -> (SMatrix<f64, 
     (b.transpose() * d * b * vol, vol)
 }
 
-/// Measure of a simplex facet given its vertex coordinates (point: 1, segment: length, triangle: area).
+/// Measure of a facet given its vertex coordinates (point: 1, segment:
+/// length, triangle: area, quadrilateral: area of its bilinear surface):
+/// the sum of its nodal weights [`element::facet_weights`].
 pub fn facet_measure(pts: &[&[f64]]) -> f64 {
-    match pts.len() {
-        1 => 1.0,
-        2 => pts[0]
-            .iter()
-            .zip(pts[1])
-            .map(|(a, b)| (b - a) * (b - a))
-            .sum::<f64>()
-            .sqrt(),
-        3 => {
-            let mut u = [0.0; 3];
-            let mut v = [0.0; 3];
-            for k in 0..pts[0].len() {
-                u[k] = pts[1][k] - pts[0][k];
-                v[k] = pts[2][k] - pts[0][k];
-            }
-            let c = [
-                u[1] * v[2] - u[2] * v[1],
-                u[2] * v[0] - u[0] * v[2],
-                u[0] * v[1] - u[1] * v[0],
-            ];
-            0.5 * (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt()
-        }
-        _ => 0.0,
-    }
+    let mut w = Vec::with_capacity(4);
+    element::facet_weights(pts, &mut w);
+    w.iter().sum()
 }
 
 /// The neighbours of each owned node (the nodes it shares a cell with,
 /// itself included), in compressed rows sorted by global number: the
 /// neighbours of owned node a are `nbr[ptr[a]..ptr[a + 1]]` (local numbers).
 fn node_adjacency(mesh: &LocalMesh) -> (Vec<usize>, Vec<u32>) {
-    let k = mesh.dim + 1;
     let nown = mesh.owned_count;
     let mut count = vec![1usize; nown]; // itself
-    for cell in mesh.cells.chunks(k) {
+    for cell in &mesh.cells {
         for &a in cell {
             if a < nown {
-                count[a] += k - 1;
+                count[a] += cell.len() - 1;
             }
         }
     }
@@ -151,7 +134,7 @@ fn node_adjacency(mesh: &LocalMesh) -> (Vec<usize>, Vec<u32>) {
         nbr[fill[a]] = a as u32;
         fill[a] += 1;
     }
-    for cell in mesh.cells.chunks(k) {
+    for cell in &mesh.cells {
         for &a in cell {
             if a < nown {
                 for &b in cell {
@@ -194,6 +177,91 @@ pub struct Elasticity {
     pub lumped_mass: Vec<f64>,
 }
 
+/// The material matrices of the element kernels, once per use.
+pub struct Kernels {
+    d2: SMatrix<f64, 3, 3>,
+    d3: SMatrix<f64, 6, 6>,
+    lame: (f64, f64),
+}
+
+impl Kernels {
+    pub fn new(settings: &Settings, dim: usize) -> Kernels {
+        Kernels {
+            d2: hooke_2d(settings.young, settings.nu, settings.plane_stress),
+            d3: hooke_3d(settings.young, settings.nu),
+            lame: element::lame(settings.young, settings.nu, dim, settings.plane_stress),
+        }
+    }
+}
+
+/// The stiffness of local cell `c` into `ke` (`(d k)^2` values, row-major,
+/// dofs node-major) and, for a Q1 cell, `int N_a dx` of its vertices into
+/// `lumped`; returns its measure (NaN for a folded Q1 cell).
+pub fn cell_stiffness(
+    mesh: &LocalMesh,
+    c: usize,
+    kernels: &Kernels,
+    ke: &mut [f64],
+    lumped: &mut [f64; 8],
+) -> Result<f64, Error> {
+    let d = mesh.dim;
+    let cell = mesh.cells.get(c);
+    let k = cell.len();
+    Ok(match (d, k) {
+        (2, 3) => {
+            let x = [0, 1, 2].map(|a| {
+                let p = mesh.x(cell[a]);
+                [p[0], p[1]]
+            });
+            let (m, area) = stiffness_2d(&x, &kernels.d2);
+            for i in 0..6 {
+                for j in 0..6 {
+                    ke[i * 6 + j] = m[(i, j)];
+                }
+            }
+            area
+        }
+        (3, 4) => {
+            let x = [0, 1, 2, 3].map(|a| {
+                let p = mesh.x(cell[a]);
+                [p[0], p[1], p[2]]
+            });
+            let (m, vol) = stiffness_3d(&x, &kernels.d3);
+            for i in 0..12 {
+                for j in 0..12 {
+                    ke[i * 12 + j] = m[(i, j)];
+                }
+            }
+            vol
+        }
+        (2, 4) => {
+            let x: [[f64; 2]; 4] = std::array::from_fn(|a| {
+                let p = mesh.x(cell[a]);
+                [p[0], p[1]]
+            });
+            ke[..64].fill(0.0);
+            let mut l4 = [0.0; 4];
+            let r = element::q1_stiffness(&x, element::quad_rule(), kernels.lame, ke, &mut l4);
+            lumped[..4].copy_from_slice(&l4);
+            r.unwrap_or(f64::NAN)
+        }
+        (3, 5 | 6 | 8) => {
+            // Hexahedra; prisms and pyramids as degenerate ones.
+            let mut x = [[0.0; 3]; 8];
+            for (xa, &v) in x.iter_mut().zip(cell) {
+                let p = mesh.x(v);
+                *xa = [p[0], p[1], p[2]];
+            }
+            element::hex_family_stiffness(&x[..k], kernels.lame, ke, lumped).unwrap_or(f64::NAN)
+        }
+        _ => {
+            return Err(Error::Internal(format!(
+                "cell {c} has {k} nodes in a {d}D mesh"
+            )))
+        }
+    })
+}
+
 /// Assembles K (only the rows this rank owns; no communication) and the lumped
 /// mass. Extra owned diagonal 2x2/3x3 blocks can be added by `extra` before the
 /// final assembly (the UBR term r B^T W B). The rows are built here in
@@ -206,7 +274,6 @@ pub fn assemble_stiffness(
     extra: &[(usize, Vec<f64>)],
 ) -> Result<Elasticity, Error> {
     let d = mesh.dim;
-    let k = d + 1;
     let nown = mesh.owned_count;
     let (nptr, nbr) = node_adjacency(mesh);
     // Dof row (a, ca) starts at d * (d * nptr[a] + ca * len(a)); its
@@ -236,15 +303,14 @@ pub fn assemble_stiffness(
             .expect("the vertices of a cell are neighbours")
     };
     let mut mass = vec![0.0; nown];
-    let d2 = hooke_2d(settings.young, settings.nu, settings.plane_stress);
-    let d3 = hooke_3d(settings.young, settings.nu);
-    let nloc = d * k;
-    let mut ke = vec![0.0; nloc * nloc];
+    let kernels = Kernels::new(settings, d);
+    let nloc_max = d * mesh.cells.max_nodes();
+    let mut ke = vec![0.0; nloc_max * nloc_max];
     // Cells by their lowest vertex (counting sort): the rows each one adds
     // to are then swept in order, not at random (RCM-numbered nodes,
     // cells in file order; hertz_37473: 55 -> 40 ms).
-    let ncells = mesh.cells.len() / k;
-    let lowest = |c: usize| *mesh.cells[c * k..(c + 1) * k].iter().min().unwrap_or(&0);
+    let ncells = mesh.cells.len();
+    let lowest = |c: usize| *mesh.cells.get(c).iter().min().unwrap_or(&0);
     let mut start = vec![0usize; mesh.node_global.len() + 1];
     for c in 0..ncells {
         start[lowest(c) + 1] += 1;
@@ -258,47 +324,35 @@ pub fn assemble_stiffness(
         order[start[v]] = c as u32;
         start[v] += 1;
     }
+    // The integral of each vertex's shape function over the cell.
+    let mut lumped = [0.0; 8];
     for c in order.into_iter().map(|c| c as usize) {
-        let cell = &mesh.cells[c * k..(c + 1) * k];
-        let measure;
-        if d == 2 {
-            let x = [0, 1, 2].map(|a| {
-                let p = mesh.x(cell[a]);
-                [p[0], p[1]]
-            });
-            let (m, area) = stiffness_2d(&x, &d2);
-            measure = area;
-            for i in 0..6 {
-                for j in 0..6 {
-                    ke[i * 6 + j] = m[(i, j)];
-                }
-            }
-        } else {
-            let x = [0, 1, 2, 3].map(|a| {
-                let p = mesh.x(cell[a]);
-                [p[0], p[1], p[2]]
-            });
-            let (m, vol) = stiffness_3d(&x, &d3);
-            measure = vol;
-            for i in 0..12 {
-                for j in 0..12 {
-                    ke[i * 12 + j] = m[(i, j)];
-                }
-            }
-        }
+        let cell = mesh.cells.get(c);
+        let k = cell.len();
+        let nloc = d * k;
+        let measure = cell_stiffness(mesh, c, &kernels, &mut ke, &mut lumped)?;
         if measure.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || !measure.is_finite() {
             let tags: Vec<String> = cell.iter().map(|&v| mesh.node_tag[v].to_string()).collect();
             return bad(format!(
-                "degenerate element {} (nodes {}): zero measure",
+                "degenerate element {} (nodes {}): zero measure{}",
                 c,
-                tags.join(" ")
+                tags.join(" "),
+                if k == d + 1 {
+                    ""
+                } else {
+                    ", or a Jacobian determinant that vanishes or changes sign"
+                }
             ));
+        }
+        if k == d + 1 {
+            // P1: a (d+1)-th of the measure to each vertex.
+            lumped[..k].fill(measure / k as f64);
         }
         for (ia, &a) in cell.iter().enumerate() {
             if !mesh.is_owned(a) {
                 continue;
             }
-            mass[a] += measure / k as f64;
+            mass[a] += lumped[ia];
             for (ib, &b) in cell.iter().enumerate() {
                 let p = slot(a, b);
                 for ca in 0..d {
@@ -327,8 +381,10 @@ pub fn assemble_stiffness(
     })
 }
 
-/// The load vector's owned entries from the surface tractions (nodal quadrature:
-/// a facet of measure |F| with m vertices gives |F|/m * t to each vertex).
+/// The load vector's owned entries from the surface tractions (nodal
+/// quadrature: vertex a of a facet gets `w_a t`, `w_a` from
+/// [`element::facet_weights`]: |F|/m for a simplex facet of m vertices,
+/// `int N_a dA` for a quadrilateral).
 pub fn traction_load(mesh: &LocalMesh, tractions: &[TractionBc]) -> Result<Vec<f64>, Error> {
     let d = mesh.dim;
     let mut f = vec![0.0; mesh.owned_count * d];
@@ -342,11 +398,11 @@ pub fn traction_load(mesh: &LocalMesh, tractions: &[TractionBc]) -> Result<Vec<f
                 d
             ));
         }
-        let m = group.nodes_per_element();
-        for e in group.conn.chunks(m) {
+        let mut w = Vec::with_capacity(4);
+        for e in &group.conn {
             let pts: Vec<&[f64]> = e.iter().map(|&v| mesh.x(v)).collect();
-            let share = facet_measure(&pts) / m as f64;
-            for &v in e {
+            element::facet_weights(&pts, &mut w);
+            for (&v, &share) in e.iter().zip(&w) {
                 if mesh.is_owned(v) {
                     for c in 0..d {
                         f[v * d + c] += share * t.traction[c];
@@ -374,7 +430,7 @@ pub fn dirichlet_dofs(mesh: &LocalMesh, bcs: &[DirichletBc]) -> Result<Vec<(usiz
                     d
                 ));
             }
-            for &v in &group.conn {
+            for &v in group.conn.nodes() {
                 if mesh.is_owned(v) {
                     out.push((v * d + comp, value));
                 }
@@ -429,5 +485,403 @@ mod tests {
         let expect = 0.5 * eps * eps * (lam + 2.0 * mu) * vol;
         let got = 0.5 * (u.transpose() * k * u)[(0, 0)];
         assert!((got - expect).abs() < 1e-12 * expect.abs().max(1.0));
+    }
+}
+
+/// Patch tests: a linear displacement field (a uniform stress state) is
+/// reproduced to round-off on distorted meshes of Q1 cells, alone and mixed
+/// with P1 cells, in 2D and 3D; with the field prescribed on the boundary
+/// (the interior solved for), and with the uniform traction it produces
+/// loaded on the boundary through the nodal facet weights (the weights of a
+/// non-parallelogram quadrilateral facet included).
+#[cfg(test)]
+mod patch_tests {
+    use super::*;
+    use nalgebra::{DMatrix, DVector};
+
+    struct Patch {
+        dim: usize,
+        x: Vec<f64>,
+        cells: Vec<Vec<usize>>,
+        /// Boundary facets, oriented outward.
+        facets: Vec<Vec<usize>>,
+        boundary: Vec<bool>,
+    }
+
+    /// Deterministic pseudo-random shifts in [-s, s].
+    fn shift(i: usize, k: usize, s: f64) -> f64 {
+        let v = ((i * 7919 + k * 104_729 + 17) % 1000) as f64 / 999.0;
+        s * (2.0 * v - 1.0)
+    }
+
+    /// An `n x n` grid of the square [0,2]x[0,1.5], interior nodes moved by up
+    /// to 0.3 cell, boundary nodes moved along their edge (corners fixed);
+    /// with `mixed`, every other cell is split into two triangles.
+    fn patch_2d(n: usize, mixed: bool) -> Patch {
+        let (lx, ly) = (2.0, 1.5);
+        let id = |i: usize, j: usize| j * (n + 1) + i;
+        let mut x = Vec::new();
+        let mut boundary = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let (bx, by) = (i == 0 || i == n, j == 0 || j == n);
+                let s = 0.3 / n as f64;
+                let dx = if bx { 0.0 } else { shift(id(i, j), 0, s) };
+                let dy = if by { 0.0 } else { shift(id(i, j), 1, s) };
+                x.push(lx * (i as f64 / n as f64 + dx));
+                x.push(ly * (j as f64 / n as f64 + dy));
+                boundary.push(bx || by);
+            }
+        }
+        let mut cells = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                let q = [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)];
+                if mixed && (i + j) % 2 == 1 {
+                    cells.push(vec![q[0], q[1], q[2]]);
+                    cells.push(vec![q[0], q[2], q[3]]);
+                } else {
+                    cells.push(q.to_vec());
+                }
+            }
+        }
+        let mut facets = Vec::new();
+        for i in 0..n {
+            facets.push(vec![id(i, 0), id(i + 1, 0)]);
+            facets.push(vec![id(i + 1, n), id(i, n)]);
+            facets.push(vec![id(n, i), id(n, i + 1)]);
+            facets.push(vec![id(0, i + 1), id(0, i)]);
+        }
+        Patch {
+            dim: 2,
+            x,
+            cells,
+            facets,
+            boundary,
+        }
+    }
+
+    /// An `n^3` grid of the box [0,1]x[0,1.2]x[0,0.8] of hexahedra, nodes
+    /// moved (boundary nodes within their face plane, so the faces are
+    /// planar but the quadrilateral facets are not parallelograms).
+    fn patch_3d(n: usize) -> Patch {
+        let l = [1.0, 1.2, 0.8];
+        let id = |i: usize, j: usize, k: usize| (k * (n + 1) + j) * (n + 1) + i;
+        let mut x = Vec::new();
+        let mut boundary = Vec::new();
+        for k in 0..=n {
+            for j in 0..=n {
+                for i in 0..=n {
+                    let on = [i == 0 || i == n, j == 0 || j == n, k == 0 || k == n];
+                    for (a, ijk) in [i, j, k].into_iter().enumerate() {
+                        let d = if on[a] {
+                            0.0
+                        } else {
+                            shift(id(i, j, k), a, 0.25 / n as f64)
+                        };
+                        x.push(l[a] * (ijk as f64 / n as f64 + d));
+                    }
+                    boundary.push(on.iter().any(|&b| b));
+                }
+            }
+        }
+        let mut cells = Vec::new();
+        for k in 0..n {
+            for j in 0..n {
+                for i in 0..n {
+                    let c = |a: usize, b: usize, e: usize| id(i + a, j + b, k + e);
+                    cells.push(vec![
+                        c(0, 0, 0),
+                        c(1, 0, 0),
+                        c(1, 1, 0),
+                        c(0, 1, 0),
+                        c(0, 0, 1),
+                        c(1, 0, 1),
+                        c(1, 1, 1),
+                        c(0, 1, 1),
+                    ]);
+                }
+            }
+        }
+        let facets = boundary_facets(&cells);
+        Patch {
+            dim: 3,
+            x,
+            cells,
+            facets,
+            boundary,
+        }
+    }
+
+    /// The faces of a positively oriented 3D cell, outward.
+    fn faces(k: usize) -> &'static [&'static [usize]] {
+        match k {
+            4 => &[&[1, 2, 3], &[0, 3, 2], &[0, 1, 3], &[0, 2, 1]],
+            5 => &[
+                &[0, 3, 2, 1],
+                &[0, 1, 4],
+                &[1, 2, 4],
+                &[2, 3, 4],
+                &[3, 0, 4],
+            ],
+            6 => &[
+                &[0, 2, 1],
+                &[3, 4, 5],
+                &[0, 1, 4, 3],
+                &[1, 2, 5, 4],
+                &[2, 0, 3, 5],
+            ],
+            _ => &[
+                &[0, 3, 2, 1],
+                &[4, 5, 6, 7],
+                &[0, 1, 5, 4],
+                &[1, 2, 6, 5],
+                &[2, 3, 7, 6],
+                &[3, 0, 4, 7],
+            ],
+        }
+    }
+
+    /// The faces used by one cell only (the others by exactly two: conforming).
+    fn boundary_facets(cells: &[Vec<usize>]) -> Vec<Vec<usize>> {
+        let mut count = std::collections::HashMap::new();
+        for c in cells {
+            for f in faces(c.len()) {
+                let q: Vec<usize> = f.iter().map(|&a| c[a]).collect();
+                let mut key = q.clone();
+                key.sort_unstable();
+                count.entry(key).or_insert((0, q)).0 += 1;
+            }
+        }
+        assert!(count.values().all(|(k, _)| *k <= 2), "non-conforming");
+        let mut facets: Vec<Vec<usize>> = count
+            .into_values()
+            .filter(|(k, _)| *k == 1)
+            .map(|(_, q)| q)
+            .collect();
+        facets.sort();
+        facets
+    }
+
+    /// The 3x3x3 patch with its centre hexahedron split into 6 pyramids
+    /// (apex inside), its corner hexahedron at the origin into 6 pyramids of
+    /// which the three on the boundary are split into 2 tetrahedra each, and
+    /// the column of hexahedra along the edge x = 1, y = 0 into 2 prisms each.
+    fn patch_3d_mixed() -> Patch {
+        let mut p = patch_3d(3);
+        let hexes = std::mem::take(&mut p.cells);
+        for (c, h) in hexes.into_iter().enumerate() {
+            let (i, j) = (c % 3, (c / 3) % 3);
+            if c == 13 || c == 0 {
+                let centre: Vec<f64> = (0..3)
+                    .map(|r| {
+                        h.iter().map(|&v| p.x[v * 3 + r]).sum::<f64>() / 8.0
+                            + 0.02 * (r as f64 - 1.0)
+                    })
+                    .collect();
+                let apex = p.x.len() / 3;
+                p.x.extend_from_slice(&centre);
+                p.boundary.push(false);
+                for (fi, f) in faces(8).iter().enumerate() {
+                    let base: Vec<usize> = f.iter().rev().map(|&a| h[a]).collect();
+                    // Faces 0 (z = 0), 2 (y = 0), 5 (x = 0) of the corner cell.
+                    if c == 0 && [0, 2, 5].contains(&fi) {
+                        p.cells.push(vec![base[0], base[1], base[2], apex]);
+                        p.cells.push(vec![base[0], base[2], base[3], apex]);
+                    } else {
+                        p.cells.push([base.as_slice(), &[apex]].concat());
+                    }
+                }
+            } else if i == 2 && j == 0 {
+                p.cells.push(vec![h[0], h[1], h[2], h[4], h[5], h[6]]);
+                p.cells.push(vec![h[0], h[2], h[3], h[4], h[6], h[7]]);
+            } else {
+                p.cells.push(h);
+            }
+        }
+        p.facets = boundary_facets(&p.cells);
+        p
+    }
+
+    fn assemble(p: &Patch, young: f64, nu: f64) -> DMatrix<f64> {
+        let d = p.dim;
+        let n = p.x.len() / d;
+        let mut k = DMatrix::zeros(n * d, n * d);
+        let lame = element::lame(young, nu, d, false);
+        for c in &p.cells {
+            let nl = c.len() * d;
+            let mut ke = vec![0.0; nl * nl];
+            let pt = |a: usize, r: usize| p.x[c[a] * d + r];
+            match (d, c.len()) {
+                (2, 3) => {
+                    let (m, _) = stiffness_2d(
+                        &[0, 1, 2].map(|a| [pt(a, 0), pt(a, 1)]),
+                        &hooke_2d(young, nu, false),
+                    );
+                    ke.copy_from_slice(m.transpose().as_slice());
+                }
+                (2, 4) => {
+                    let xs: [[f64; 2]; 4] = std::array::from_fn(|a| [pt(a, 0), pt(a, 1)]);
+                    let mut l = [0.0; 4];
+                    element::q1_stiffness(&xs, element::quad_rule(), lame, &mut ke, &mut l)
+                        .unwrap();
+                }
+                (3, 4) => {
+                    let (m, _) = stiffness_3d(
+                        &[0, 1, 2, 3].map(|a| [pt(a, 0), pt(a, 1), pt(a, 2)]),
+                        &hooke_3d(young, nu),
+                    );
+                    ke.copy_from_slice(m.transpose().as_slice());
+                }
+                (3, k) => {
+                    let xs: Vec<[f64; 3]> =
+                        (0..k).map(|a| [pt(a, 0), pt(a, 1), pt(a, 2)]).collect();
+                    let mut l = [0.0; 8];
+                    element::hex_family_stiffness(&xs, lame, &mut ke, &mut l).unwrap();
+                }
+                _ => unreachable!(),
+            }
+            for (ia, &a) in c.iter().enumerate() {
+                for (ib, &b) in c.iter().enumerate() {
+                    for r in 0..d {
+                        for s in 0..d {
+                            k[(a * d + r, b * d + s)] += ke[(ia * d + r) * nl + ib * d + s];
+                        }
+                    }
+                }
+            }
+        }
+        k
+    }
+
+    /// The linear field u = G x + c and its stress (plane strain in 2D).
+    fn field(d: usize) -> (DMatrix<f64>, Vec<f64>) {
+        let g = DMatrix::from_fn(d, d, |r, s| {
+            1e-3 * (1.0 + r as f64 + 2.0 * s as f64) * if r == s { 1.0 } else { 0.4 }
+        });
+        (g, vec![2e-4, -1e-4, 3e-4][..d].to_vec())
+    }
+
+    fn exact(p: &Patch) -> DVector<f64> {
+        let d = p.dim;
+        let (g, c) = field(d);
+        DVector::from_fn(p.x.len(), |i, _| {
+            let (a, r) = (i / d, i % d);
+            c[r] + (0..d).map(|s| g[(r, s)] * p.x[a * d + s]).sum::<f64>()
+        })
+    }
+
+    /// Solves K u = f with the dofs in `fixed` set to the exact field.
+    fn solve(
+        k: &DMatrix<f64>,
+        f: &DVector<f64>,
+        fixed: &[bool],
+        u_exact: &DVector<f64>,
+    ) -> DVector<f64> {
+        let n = f.len();
+        let free: Vec<usize> = (0..n).filter(|&i| !fixed[i]).collect();
+        let mut rhs = DVector::from_fn(free.len(), |i, _| f[free[i]]);
+        for (fi, &i) in free.iter().enumerate() {
+            for j in (0..n).filter(|&j| fixed[j]) {
+                rhs[fi] -= k[(i, j)] * u_exact[j];
+            }
+        }
+        let kff = DMatrix::from_fn(free.len(), free.len(), |a, b| k[(free[a], free[b])]);
+        let uf = kff.lu().solve(&rhs).expect("nonsingular");
+        let mut u = u_exact.clone();
+        for (fi, &i) in free.iter().enumerate() {
+            u[i] = uf[fi];
+        }
+        u
+    }
+
+    fn check(p: &Patch, what: &str) {
+        let d = p.dim;
+        let (young, nu) = (1000.0, 0.3);
+        let k = assemble(p, young, nu);
+        let ue = exact(p);
+        let scale = ue.amax();
+        // Dirichlet patch test: the field on the boundary, the interior solved.
+        let fixed: Vec<bool> = (0..p.x.len()).map(|i| p.boundary[i / d]).collect();
+        let u = solve(&k, &DVector::zeros(p.x.len()), &fixed, &ue);
+        let err = (&u - &ue).amax() / scale;
+        assert!(err < 1e-12, "{what}, Dirichlet: error {err:e}");
+        // Neumann patch test: the traction sigma n on the boundary facets
+        // through their nodal weights; rigid motions held by the exact
+        // values at the dofs of two (2D) or three (3D) corners.
+        let (g, _) = field(d);
+        let eps = (&g + g.transpose()) * 0.5;
+        let (lambda, mu) = element::lame(young, nu, d, false);
+        let sigma = DMatrix::identity(d, d) * (lambda * eps.trace()) + &eps * (2.0 * mu);
+        let mut f = DVector::zeros(p.x.len());
+        let mut w = Vec::new();
+        for e in &p.facets {
+            let pts: Vec<&[f64]> = e.iter().map(|&v| &p.x[v * d..(v + 1) * d]).collect();
+            // Outward unit normal of the (planar) facet.
+            let nrm: Vec<f64> = if d == 2 {
+                let t = [pts[1][0] - pts[0][0], pts[1][1] - pts[0][1]];
+                let l = t[0].hypot(t[1]);
+                vec![t[1] / l, -t[0] / l]
+            } else {
+                let m = pts.len();
+                let u = [0, 1, 2].map(|r| pts[2][r] - pts[0][r]);
+                let v = [0, 1, 2].map(|r| pts[m - 1][r] - pts[1][r]);
+                let c = [
+                    u[1] * v[2] - u[2] * v[1],
+                    u[2] * v[0] - u[0] * v[2],
+                    u[0] * v[1] - u[1] * v[0],
+                ];
+                let l = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+                c.iter().map(|x| x / l).collect()
+            };
+            element::facet_weights(&pts, &mut w);
+            for (&v, &wa) in e.iter().zip(&w) {
+                for r in 0..d {
+                    let t: f64 = (0..d).map(|s| sigma[(r, s)] * nrm[s]).sum();
+                    f[v * d + r] += wa * t;
+                }
+            }
+        }
+        let n = p.x.len() / d;
+        let mut fixed = vec![false; p.x.len()];
+        // Three corners of the 3x3x3 grid in 3D: (0,0,0), (1,0,0), (0,1.2,0).
+        let corners: Vec<usize> = if d == 2 {
+            vec![0, n - 1]
+        } else {
+            vec![0, 3, 12]
+        };
+        for &c in &corners {
+            for r in 0..d {
+                fixed[c * d + r] = true;
+            }
+        }
+        let u = solve(&k, &f, &fixed, &ue);
+        let err = (&u - &ue).amax() / scale;
+        assert!(err < 1e-10, "{what}, Neumann: error {err:e}");
+    }
+
+    #[test]
+    fn q1_quadrilaterals_2d() {
+        check(&patch_2d(4, false), "quadrilaterals");
+    }
+
+    #[test]
+    fn triangles_and_quadrilaterals_2d() {
+        check(&patch_2d(4, true), "triangles + quadrilaterals");
+    }
+
+    #[test]
+    fn q1_hexahedra_3d() {
+        check(&patch_3d(3), "hexahedra");
+    }
+
+    #[test]
+    fn hexahedra_prisms_pyramids_tetrahedra_3d() {
+        let p = patch_3d_mixed();
+        for k in [4, 5, 6, 8] {
+            assert!(p.cells.iter().any(|c| c.len() == k));
+        }
+        assert!(p.facets.iter().any(|f| f.len() == 3) && p.facets.iter().any(|f| f.len() == 4));
+        check(&p, "hexahedra + prisms + pyramids + tetrahedra");
     }
 }

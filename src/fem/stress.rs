@@ -1,12 +1,14 @@
-//! Stresses of a P1 displacement field: constant per cell. Computed only when
-//! an output asks for them (`-vtk`).
+//! Stresses of the displacement field, one per cell: constant on a P1
+//! cell, at the centre of a Q1 cell (`xi = 0`). Computed only when an
+//! output asks for them (`-vtk`).
 
-use super::{grad_p1_2d, grad_p1_3d};
+use super::{element, grad_p1_2d, grad_p1_3d};
 
 /// Cauchy stress (3x3, row-major) and von Mises stress of one cell, for an
 /// isotropic material with Young's modulus `young`, Poisson's ratio `nu`.
 /// `x` holds the cell's vertex coordinates and `u` its vertex displacements,
-/// `dim` values each. In 2D, plane strain has `sigma_zz = nu (sigma_xx + sigma_yy)`,
+/// `dim` values each: `dim + 1` vertices (P1, constant stress) or `2^dim`
+/// (Q1, the stress at the cell's centre). In 2D, plane strain has `sigma_zz = nu (sigma_xx + sigma_yy)`,
 /// plane stress `sigma_zz = 0`.
 pub fn cell_stress(
     dim: usize,
@@ -18,7 +20,17 @@ pub fn cell_stress(
 ) -> ([f64; 9], f64) {
     // strain eps_ij = (du_i/dx_j + du_j/dx_i) / 2
     let mut grad = [[0.0; 3]; 3]; // grad[i][j] = du_i / dx_j
-    if dim == 2 {
+    let k = x.len() / dim;
+    if k != dim + 1 {
+        let g = element::centre_gradients(dim, x);
+        for a in 0..k {
+            for i in 0..dim {
+                for j in 0..dim {
+                    grad[i][j] += u[a * dim + i] * g[a * dim + j];
+                }
+            }
+        }
+    } else if dim == 2 {
         let (g, _) = grad_p1_2d(&[[x[0], x[1]], [x[2], x[3]], [x[4], x[5]]]);
         for (a, ga) in g.iter().enumerate() {
             for i in 0..2 {
@@ -91,6 +103,29 @@ mod tests {
         assert!((s[0] - e * eps).abs() < 1e-9);
         assert!(s[4].abs() < 1e-9 && s[8].abs() < 1e-9 && s[1].abs() < 1e-12);
         assert!((vm - e * eps).abs() < 1e-9);
+    }
+
+    #[test]
+    fn q1_uniaxial_tension_at_the_centre() {
+        // A distorted hexahedron and quadrilateral under a linear field: the
+        // centre stress is the exact one.
+        let (e, nu, eps) = (1000.0, 0.3, 1e-3);
+        let mut x = Vec::new();
+        for (a, c) in element::HEX_CORNERS.iter().enumerate() {
+            let s = 0.05 * (a as f64) - 0.2;
+            x.extend_from_slice(&[c[0] + s, 1.5 * c[1] - 0.5 * s, c[2] + 0.3 * s]);
+        }
+        let u: Vec<f64> = x
+            .chunks(3)
+            .flat_map(|p| [eps * p[0], -nu * eps * p[1], -nu * eps * p[2]])
+            .collect();
+        let (s, vm) = cell_stress(3, &x, &u, e, nu, false);
+        assert!((s[0] - e * eps).abs() < 1e-9 && s[4].abs() < 1e-9 && s[8].abs() < 1e-9);
+        assert!((vm - e * eps).abs() < 1e-9);
+        let x = [0.0, 0.0, 2.0, 0.3, 1.7, 1.9, -0.2, 1.1];
+        let u: Vec<f64> = x.chunks(2).flat_map(|p| [1e-3 * p[0], 0.0]).collect();
+        let (s, _) = cell_stress(2, &x, &u, e, nu, true);
+        assert!((s[0] - e / (1.0 - nu * nu) * 1e-3).abs() < 1e-9 && s[8] == 0.0);
     }
 
     #[test]

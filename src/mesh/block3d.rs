@@ -26,7 +26,7 @@
 //! `1..=N` in that order. Boxes are ordered the same way, six consecutive
 //! tetrahedra per box. The groups come in the order `top`, `bottom`, `sides`.
 
-use super::{Group, Mesh, MeshError};
+use super::{Cells, Group, Mesh, MeshError};
 
 /// The largest mesh the generator builds (nodes).
 const MAX_NODES: f64 = 60.0e6;
@@ -54,47 +54,96 @@ fn intervals(length: f64, h: f64) -> f64 {
     ((length / h) * (1.0 - 1e-10)).ceil().max(1.0)
 }
 
-/// Tetrahedral mesh of the paper's 3D block (section 7.2) with target element size `h`.
-pub fn generate(h: f64) -> Result<Mesh, MeshError> {
-    if !h.is_finite() || h <= 0.0 {
-        return Err(MeshError(format!(
-            "option -mesh_h: {h} is not a positive finite element size (-mesh_generate block3d)"
-        )));
-    }
-    // Node count, checked in floating point before any allocation (a tiny
-    // `h` gives infinity).
-    let nf = LENGTH.map(|l| intervals(l, h));
-    let estimate = (nf[0] + 1.0) * (nf[1] + 1.0) * (nf[2] + 1.0);
-    if estimate > MAX_NODES {
-        return Err(MeshError(format!(
-            "option -mesh_h: {h} is too small for -mesh_generate block3d \
-             ({:.0} x {:.0} x {:.0} boxes, about {estimate:.2e} nodes, the limit is {MAX_NODES:.0e})",
-            nf[0], nf[1], nf[2]
-        )));
-    }
-    let [nx, ny, nz] = nf.map(|n| n as usize);
-    let (sx, sy) = (nx + 1, (nx + 1) * (ny + 1));
-    let n_nodes = sy * (nz + 1);
-    let node = |i: usize, j: usize, k: usize| i + sx * j + sy * k;
+/// The structured grid of `generate` and `generate_hex`: intervals per
+/// axis and node coordinates (x fastest, z slowest).
+struct Grid {
+    dims: [usize; 3],
+    coords: Vec<f64>,
+}
 
-    let mut coords = Vec::with_capacity(3 * n_nodes);
-    let coordinate = |axis: usize, i: usize, n: usize| {
-        if i == n {
-            LOWER[axis] + LENGTH[axis] // exact on the upper faces
-        } else {
-            LOWER[axis] + LENGTH[axis] * (i as f64 / n as f64)
+impl Grid {
+    fn new(h: f64) -> Result<Grid, MeshError> {
+        if !h.is_finite() || h <= 0.0 {
+            return Err(MeshError(format!(
+                "option -mesh_h: {h} is not a positive finite element size (-mesh_generate block3d)"
+            )));
         }
-    };
-    for k in 0..=nz {
-        let z = coordinate(2, k, nz);
-        for j in 0..=ny {
-            let y = coordinate(1, j, ny);
-            for i in 0..=nx {
-                coords.extend_from_slice(&[coordinate(0, i, nx), y, z]);
+        // Node count, checked in floating point before any allocation (a tiny
+        // `h` gives infinity).
+        let nf = LENGTH.map(|l| intervals(l, h));
+        let estimate = (nf[0] + 1.0) * (nf[1] + 1.0) * (nf[2] + 1.0);
+        if estimate > MAX_NODES {
+            return Err(MeshError(format!(
+                "option -mesh_h: {h} is too small for -mesh_generate block3d \
+                 ({:.0} x {:.0} x {:.0} boxes, about {estimate:.2e} nodes, the limit is {MAX_NODES:.0e})",
+                nf[0], nf[1], nf[2]
+            )));
+        }
+        let [nx, ny, nz] = nf.map(|n| n as usize);
+        let n_nodes = (nx + 1) * (ny + 1) * (nz + 1);
+        let mut coords = Vec::with_capacity(3 * n_nodes);
+        let coordinate = |axis: usize, i: usize, n: usize| {
+            if i == n {
+                LOWER[axis] + LENGTH[axis] // exact on the upper faces
+            } else {
+                LOWER[axis] + LENGTH[axis] * (i as f64 / n as f64)
+            }
+        };
+        for k in 0..=nz {
+            let z = coordinate(2, k, nz);
+            for j in 0..=ny {
+                let y = coordinate(1, j, ny);
+                for i in 0..=nx {
+                    coords.extend_from_slice(&[coordinate(0, i, nx), y, z]);
+                }
             }
         }
+        debug_assert_eq!(coords.len(), 3 * n_nodes);
+        Ok(Grid {
+            dims: [nx, ny, nz],
+            coords,
+        })
     }
-    debug_assert_eq!(coords.len(), 3 * n_nodes);
+
+    fn node(&self, i: usize, j: usize, k: usize) -> usize {
+        let [nx, ny, _] = self.dims;
+        i + (nx + 1) * (j + (ny + 1) * k)
+    }
+
+    /// The squares of the face `axis = 0` (`upper == false`) or `axis = n`,
+    /// as `(c00, c10, c01, c11)`: with (p, q) the two other axes in cyclic
+    /// order (`e_p x e_q = e_axis`), corner `cab` is `a` steps along p and
+    /// `b` along q from `c00`.
+    fn face_squares(&self, axis: usize, upper: bool) -> Vec<[usize; 4]> {
+        let dims = self.dims;
+        let (p, q) = ((axis + 1) % 3, (axis + 2) % 3);
+        let at = |a: usize, b: usize| {
+            let mut ijk = [0; 3];
+            ijk[axis] = if upper { dims[axis] } else { 0 };
+            ijk[p] = a;
+            ijk[q] = b;
+            self.node(ijk[0], ijk[1], ijk[2])
+        };
+        let mut out = Vec::with_capacity(dims[p] * dims[q]);
+        for b in 0..dims[q] {
+            for a in 0..dims[p] {
+                out.push([at(a, b), at(a + 1, b), at(a, b + 1), at(a + 1, b + 1)]);
+            }
+        }
+        out
+    }
+
+    fn n_nodes(&self) -> usize {
+        self.coords.len() / 3
+    }
+}
+
+/// Tetrahedral mesh of the paper's 3D block (section 7.2) with target element size `h`.
+pub fn generate(h: f64) -> Result<Mesh, MeshError> {
+    let grid = Grid::new(h)?;
+    let [nx, ny, nz] = grid.dims;
+    let n_nodes = grid.n_nodes();
+    let node = |i: usize, j: usize, k: usize| grid.node(i, j, k);
 
     // Offsets of the 8 box corners from corner 0, numbered a + 2 b + 4 c.
     let corner: [usize; 8] = std::array::from_fn(|c| node(c & 1, (c >> 1) & 1, c >> 2));
@@ -111,24 +160,13 @@ pub fn generate(h: f64) -> Result<Mesh, MeshError> {
     }
     debug_assert_eq!(cells.len(), 24 * nx * ny * nz);
 
-    // Boundary triangles of the face `axis = 0` (`upper == false`) or
-    // `axis = n` of the grid. With (p, q) the two other axes in cyclic order
-    // (e_p x e_q = e_axis), each square (c00, c10, c01, c11) is split along
+    // Boundary triangles: each square of a face of the grid split along
     // c00 - c11 (the Kuhn diagonal) into two triangles oriented by the
     // outward normal.
-    let dims = [nx, ny, nz];
-    let face = |conn: &mut Vec<usize>, axis: usize, upper: bool| {
-        let (p, q) = ((axis + 1) % 3, (axis + 2) % 3);
-        let at = |a: usize, b: usize| {
-            let mut ijk = [0; 3];
-            ijk[axis] = if upper { dims[axis] } else { 0 };
-            ijk[p] = a;
-            ijk[q] = b;
-            node(ijk[0], ijk[1], ijk[2])
-        };
-        for b in 0..dims[q] {
-            for a in 0..dims[p] {
-                let (c00, c10, c01, c11) = (at(a, b), at(a + 1, b), at(a, b + 1), at(a + 1, b + 1));
+    let triangles = |faces: &[(usize, bool)]| {
+        let mut conn = Vec::new();
+        for &(axis, upper) in faces {
+            for [c00, c10, c01, c11] in grid.face_squares(axis, upper) {
                 if upper {
                     conn.extend_from_slice(&[c00, c10, c11, c00, c11, c01]);
                 } else {
@@ -136,22 +174,12 @@ pub fn generate(h: f64) -> Result<Mesh, MeshError> {
                 }
             }
         }
-    };
-    let triangles = |faces: &[(usize, bool)]| {
-        let n: usize = faces
-            .iter()
-            .map(|&(axis, _)| dims[(axis + 1) % 3] * dims[(axis + 2) % 3])
-            .sum();
-        let mut conn = Vec::with_capacity(6 * n);
-        for &(axis, upper) in faces {
-            face(&mut conn, axis, upper);
-        }
         conn
     };
     let group = |name: &str, conn: Vec<usize>| Group {
         name: name.to_string(),
         dim: 2,
-        conn,
+        conn: Cells::uniform(conn, 3),
     };
     let groups = vec![
         group("top", triangles(&[(2, true)])),
@@ -164,10 +192,68 @@ pub fn generate(h: f64) -> Result<Mesh, MeshError> {
 
     Ok(Mesh {
         dim: 3,
-        coords,
         node_tags: (1..=n_nodes as u64).collect(),
         cell_tags: (1..=(cells.len() / 4) as u64).collect(),
-        cells,
+        cells: Cells::uniform(cells, 4),
+        coords: grid.coords,
+        groups,
+    })
+}
+
+/// Q1 hexahedral mesh of the same block: the boxes of the grid of
+/// [`generate`] (same nodes, same numbering), each one trilinear hexahedron
+/// with its corners in Gmsh's order (bottom face counter-clockwise seen
+/// from above, then the top face), positively oriented; the boundary
+/// groups hold one quadrilateral per box face, ordered counter-clockwise
+/// seen from outside. Boxes are ordered x fastest, z slowest.
+pub fn generate_hex(h: f64) -> Result<Mesh, MeshError> {
+    let grid = Grid::new(h)?;
+    let [nx, ny, nz] = grid.dims;
+    let n_nodes = grid.n_nodes();
+    // Box corner c = a + 2 b + 4 c in Gmsh's hexahedron order.
+    const HEX: [usize; 8] = [0, 1, 3, 2, 4, 5, 7, 6];
+    let corner: [usize; 8] = std::array::from_fn(|c| grid.node(c & 1, (c >> 1) & 1, c >> 2));
+    let mut cells = Vec::with_capacity(8 * nx * ny * nz);
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                let v0 = grid.node(i, j, k);
+                cells.extend(HEX.iter().map(|&c| v0 + corner[c]));
+            }
+        }
+    }
+    let quads = |faces: &[(usize, bool)]| {
+        let mut conn = Vec::new();
+        for &(axis, upper) in faces {
+            for [c00, c10, c01, c11] in grid.face_squares(axis, upper) {
+                if upper {
+                    conn.extend_from_slice(&[c00, c10, c11, c01]);
+                } else {
+                    conn.extend_from_slice(&[c00, c01, c11, c10]);
+                }
+            }
+        }
+        Cells::uniform(conn, 4)
+    };
+    let group = |name: &str, conn: Cells| Group {
+        name: name.to_string(),
+        dim: 2,
+        conn,
+    };
+    let groups = vec![
+        group("top", quads(&[(2, true)])),
+        group("bottom", quads(&[(2, false)])),
+        group(
+            "sides",
+            quads(&[(0, false), (0, true), (1, false), (1, true)]),
+        ),
+    ];
+    Ok(Mesh {
+        dim: 3,
+        node_tags: (1..=n_nodes as u64).collect(),
+        cell_tags: (1..=(nx * ny * nz) as u64).collect(),
+        cells: Cells::uniform(cells, 8),
+        coords: grid.coords,
         groups,
     })
 }
@@ -214,7 +300,7 @@ mod tests {
     /// outward from that tetrahedron.
     fn tet_faces(m: &Mesh) -> HashMap<[usize; 3], (usize, [usize; 3])> {
         let mut faces = HashMap::new();
-        for t in m.cells.chunks(4) {
+        for t in m.cells.iter() {
             // Faces opposite each vertex, outward for a positive tetrahedron.
             for f in [
                 [t[1], t[2], t[3]],
@@ -261,7 +347,7 @@ mod tests {
                 let g = m.group(name).unwrap();
                 assert_eq!(g.dim, 2);
                 let mut sum = 0.0;
-                for t in g.conn.chunks(3) {
+                for t in g.conn.iter() {
                     let a = area_vector(&m, t);
                     let c = [0, 1, 2].map(|i| {
                         (point(&m, t[0])[i] + point(&m, t[1])[i] + point(&m, t[2])[i]) / 3.0
@@ -275,13 +361,13 @@ mod tests {
                 }
                 assert!((sum - area).abs() < 1e-12, "h = {h}: {name} area {sum}");
             }
-            for &v in &m.group("top").unwrap().conn {
+            for &v in m.group("top").unwrap().conn.nodes() {
                 assert_eq!(point(&m, v)[2], 0.5);
             }
-            for &v in &m.group("bottom").unwrap().conn {
+            for &v in m.group("bottom").unwrap().conn.nodes() {
                 assert_eq!(point(&m, v)[2], -0.5);
             }
-            for t in m.group("sides").unwrap().conn.chunks(3) {
+            for t in m.group("sides").unwrap().conn.iter() {
                 let p = [0, 1, 2].map(|i| point(&m, t[i]));
                 let on = |axis: usize, x: f64| p.iter().all(|q| q[axis] == x);
                 assert!(
@@ -309,7 +395,7 @@ mod tests {
             assert_eq!(4 * m.num_cells(), 2 * interior + boundary.len());
             let mut seen: HashMap<[usize; 3], &str> = HashMap::new();
             for g in &m.groups {
-                for t in g.conn.chunks(3) {
+                for t in g.conn.iter() {
                     let key = sorted(t);
                     let f = boundary.get(&key);
                     assert!(
@@ -353,7 +439,7 @@ mod tests {
         }
         // Euler characteristic of a ball: V - E + F - T = 1.
         let mut edges = std::collections::HashSet::new();
-        for t in m.cells.chunks(4) {
+        for t in m.cells.iter() {
             for a in 0..4 {
                 for b in a + 1..4 {
                     edges.insert((t[a].min(t[b]), t[a].max(t[b])));
@@ -387,9 +473,9 @@ mod tests {
             assert_eq!(m.group("bottom").unwrap().len(), 2 * nx * ny);
             assert_eq!(m.group("sides").unwrap().len(), 4 * (ny * nz + nx * nz));
             assert_eq!(m.node_tags, (1..=nodes as u64).collect::<Vec<_>>());
-            assert!(m.cells.iter().all(|&v| v < nodes));
+            assert!(m.cells.nodes().iter().all(|&v| v < nodes));
             let mut used = vec![false; nodes];
-            m.cells.iter().for_each(|&v| used[v] = true);
+            m.cells.nodes().iter().for_each(|&v| used[v] = true);
             assert!(used.iter().all(|&u| u), "h = {h}: unused node");
             // Lexicographic: x fastest, then y, then z.
             for k in 0..=nz {
@@ -415,6 +501,85 @@ mod tests {
         // A size just above 1 / n gives n intervals.
         assert_eq!(intervals(1.0, 0.1 * (1.0 + 1e-12)), 10.0);
         assert_eq!(intervals(1.0, 0.1 * (1.0 - 1e-6)), 11.0);
+    }
+
+    #[test]
+    fn hex_mesh_is_valid() {
+        for h in [100.0, 1.0, 0.5, 0.3, 0.25] {
+            let m = generate_hex(h).unwrap();
+            let t = generate(h).unwrap();
+            assert_eq!(
+                (m.coords.clone(), m.node_tags.clone()),
+                (t.coords.clone(), t.node_tags.clone())
+            );
+            assert_eq!(6 * m.num_cells(), t.num_cells());
+            let mut volume = 0.0;
+            for c in 0..m.num_cells() {
+                let (lo, hi) = m.jacobian_range(c);
+                assert!(
+                    lo > 0.0 && (hi - lo).abs() < 1e-12 * hi,
+                    "h = {h}: cell {c}"
+                );
+                volume += m.signed_measure(c);
+            }
+            assert!((volume - 2.0).abs() < 1e-12);
+            // Faces of the hexahedra (outward for a positive hexahedron);
+            // the groups are exactly the faces used once, oriented outward.
+            let hex_faces = [
+                [0, 3, 2, 1],
+                [4, 5, 6, 7],
+                [0, 1, 5, 4],
+                [1, 2, 6, 5],
+                [2, 3, 7, 6],
+                [3, 0, 4, 7],
+            ];
+            let mut faces: HashMap<[usize; 4], (usize, Vec<usize>)> = HashMap::new();
+            for c in &m.cells {
+                for f in hex_faces {
+                    let q: Vec<usize> = f.iter().map(|&i| c[i]).collect();
+                    let mut key = [q[0], q[1], q[2], q[3]];
+                    key.sort_unstable();
+                    let e = faces.entry(key).or_insert((0, q.clone()));
+                    e.0 += 1;
+                    e.1 = q;
+                }
+            }
+            let boundary: HashMap<[usize; 4], Vec<usize>> = faces
+                .iter()
+                .filter(|(_, (k, _))| *k == 1)
+                .map(|(k, (_, q))| (*k, q.clone()))
+                .collect();
+            let mut seen = 0;
+            for g in &m.groups {
+                let mut area = 0.0;
+                for q in &g.conn {
+                    let mut key = [q[0], q[1], q[2], q[3]];
+                    key.sort_unstable();
+                    let f = boundary.get(&key).expect("a boundary face");
+                    let r = (0..4).find(|&r| f[r] == q[0]).unwrap();
+                    assert!(
+                        (0..4).all(|i| f[(r + i) % 4] == q[i]),
+                        "{} face {q:?} not outward",
+                        g.name
+                    );
+                    area += norm(area_vector(&m, &[q[0], q[1], q[2]]))
+                        + norm(area_vector(&m, &[q[0], q[2], q[3]]));
+                    seen += 1;
+                }
+                let want = if g.name == "sides" { 6.0 } else { 2.0 };
+                assert!(
+                    (area - want).abs() < 1e-12,
+                    "h = {h}: {} area {area}",
+                    g.name
+                );
+            }
+            assert_eq!(seen, boundary.len());
+            for &v in m.group("bottom").unwrap().conn.nodes() {
+                assert_eq!(point(&m, v)[2], -0.5);
+            }
+        }
+        assert_eq!(generate_hex(0.3).unwrap(), generate_hex(0.3).unwrap());
+        assert!(generate_hex(1e-3).unwrap_err().0.contains("-mesh_h"));
     }
 
     #[test]

@@ -8,7 +8,7 @@
 //! elements that touch one of its nodes. With that, a rank assembles the full
 //! rows of the nodes it owns without any communication.
 
-use super::{Group, Mesh};
+use super::{Cells, Group, Mesh};
 use crate::error::Error;
 use mpi::traits::*;
 use std::collections::HashMap;
@@ -19,6 +19,9 @@ pub struct LocalMesh {
     pub dim: usize,
     pub global_nodes: usize,
     pub global_cells: usize,
+    /// The kinds of the whole mesh's cells in words, for summaries:
+    /// "triangles", "quadrilaterals", "triangles and quadrilaterals", ...
+    pub cell_kinds: String,
     /// First global (renumbered) node this rank owns, and how many.
     pub owned_start: usize,
     pub owned_count: usize,
@@ -27,8 +30,8 @@ pub struct LocalMesh {
     /// The node's tag in the input mesh.
     pub node_tag: Vec<u64>,
     pub coords: Vec<f64>,
-    /// Cells touching an owned node, in local numbering.
-    pub cells: Vec<usize>,
+    /// Cells touching an owned node, in local numbering (any mix of kinds).
+    pub cells: Cells,
     /// Every group of the mesh, in the same order on every rank; each with the
     /// elements that touch an owned node.
     pub groups: Vec<Group>,
@@ -39,7 +42,7 @@ impl LocalMesh {
         self.node_global.len()
     }
     pub fn num_cells(&self) -> usize {
-        self.cells.len() / (self.dim + 1)
+        self.cells.len()
     }
     pub fn is_owned(&self, local: usize) -> bool {
         local < self.owned_count
@@ -106,7 +109,9 @@ impl LocalMesh {
     }
 }
 
-/// The nodal graph of a mesh (nodes sharing a cell), in CSR form as METIS wants it.
+/// The nodal graph of a mesh (nodes sharing a cell, whatever its kind: the
+/// eight nodes of a hexahedron are all neighbours, as the stiffness
+/// couples them), in CSR form as METIS wants it.
 pub struct NodeGraph {
     pub xadj: Vec<i32>,
     pub adjncy: Vec<i32>,
@@ -115,9 +120,8 @@ pub struct NodeGraph {
 impl NodeGraph {
     pub fn new(mesh: &Mesh) -> NodeGraph {
         let n = mesh.num_nodes();
-        let k = mesh.dim + 1;
         let mut adj: Vec<Vec<i32>> = vec![Vec::new(); n];
-        for cell in mesh.cells.chunks(k) {
+        for cell in &mesh.cells {
             for &a in cell {
                 for &b in cell {
                     if a != b {
@@ -236,7 +240,6 @@ pub fn locality_order(graph: &NodeGraph, part: &[usize], nparts: usize) -> Vec<u
 pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec<LocalMesh> {
     let n = mesh.num_nodes();
     let d = mesh.dim;
-    let k = d + 1;
     let mut counts = vec![0usize; nparts];
     for &p in part {
         counts[p] += 1;
@@ -252,8 +255,8 @@ pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec
     }
     // Cells per part: each cell goes to every part owning one of its nodes.
     let mut cells_of: Vec<Vec<usize>> = vec![Vec::new(); nparts];
-    let mut parts_here = Vec::with_capacity(k);
-    for (c, cell) in mesh.cells.chunks(k).enumerate() {
+    let mut parts_here = Vec::with_capacity(8);
+    for (c, cell) in mesh.cells.iter().enumerate() {
         parts_here.clear();
         for &v in cell {
             if !parts_here.contains(&part[v]) {
@@ -264,6 +267,7 @@ pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec
             cells_of[p].push(c);
         }
     }
+    let kinds = mesh.cell_kinds_label();
     let mut locals = Vec::with_capacity(nparts);
     for p in 0..nparts {
         let owned_start = start[p];
@@ -271,7 +275,7 @@ pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec
         let mut node_global: Vec<usize> = (owned_start..owned_start + owned_count).collect();
         let mut ghost_ids: Vec<usize> = Vec::new();
         for &c in &cells_of[p] {
-            for &v in &mesh.cells[c * k..(c + 1) * k] {
+            for &v in mesh.cells.get(c) {
                 if part[v] != p {
                     ghost_ids.push(new_id[v]);
                 }
@@ -299,19 +303,26 @@ pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec
             coords.extend_from_slice(&mesh.coords[old * d..(old + 1) * d]);
             node_tag.push(mesh.node_tags[old]);
         }
-        let mut cells = Vec::with_capacity(cells_of[p].len() * k);
+        let mut cells = Cells::new();
+        let mut cell = Vec::with_capacity(8);
         for &c in &cells_of[p] {
-            for &v in &mesh.cells[c * k..(c + 1) * k] {
-                cells.push(to_local(v).expect("cell node is local"));
-            }
+            cell.clear();
+            cell.extend(
+                mesh.cells
+                    .get(c)
+                    .iter()
+                    .map(|&v| to_local(v).expect("cell node is local")),
+            );
+            cells.push(&cell);
         }
         let mut groups = Vec::with_capacity(mesh.groups.len());
         for g in &mesh.groups {
-            let m = g.nodes_per_element();
-            let mut conn = Vec::new();
-            for e in g.conn.chunks(m) {
+            let mut conn = Cells::new();
+            for e in &g.conn {
                 if e.iter().any(|&v| part[v] == p) && e.iter().all(|&v| to_local(v).is_some()) {
-                    conn.extend(e.iter().map(|&v| to_local(v).unwrap()));
+                    cell.clear();
+                    cell.extend(e.iter().map(|&v| to_local(v).unwrap()));
+                    conn.push(&cell);
                 }
             }
             groups.push(Group {
@@ -324,6 +335,7 @@ pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec
             dim: d,
             global_nodes: n,
             global_cells: mesh.num_cells(),
+            cell_kinds: kinds.clone(),
             owned_start,
             owned_count,
             node_global,
@@ -349,6 +361,12 @@ impl Writer {
             self.u(x);
         }
     }
+    fn cells(&mut self, c: &Cells) {
+        let (nodes, stride, offsets) = c.parts();
+        self.us(nodes);
+        self.u(stride);
+        self.us(offsets);
+    }
     fn f(&mut self, v: &[f64]) {
         self.u(v.len());
         for &x in v {
@@ -368,6 +386,11 @@ impl Reader<'_> {
         let n = self.u();
         (0..n).map(|_| self.u()).collect()
     }
+    fn cells(&mut self) -> Cells {
+        let nodes = self.us();
+        let stride = self.u();
+        Cells::from_parts(nodes, stride, self.us())
+    }
     fn f(&mut self) -> Vec<f64> {
         let n = self.u();
         (0..n)
@@ -385,18 +408,19 @@ fn encode(m: &LocalMesh) -> Vec<u8> {
     w.u(m.dim);
     w.u(m.global_nodes);
     w.u(m.global_cells);
+    w.us(&m.cell_kinds.bytes().map(|b| b as usize).collect::<Vec<_>>());
     w.u(m.owned_start);
     w.u(m.owned_count);
     w.us(&m.node_global);
     let tags: Vec<usize> = m.node_tag.iter().map(|&t| t as usize).collect();
     w.us(&tags);
     w.f(&m.coords);
-    w.us(&m.cells);
+    w.cells(&m.cells);
     w.u(m.groups.len());
     for g in &m.groups {
         w.us(&g.name.bytes().map(|b| b as usize).collect::<Vec<_>>());
         w.u(g.dim);
-        w.us(&g.conn);
+        w.cells(&g.conn);
     }
     w.0
 }
@@ -406,12 +430,14 @@ fn decode(buf: &[u8]) -> LocalMesh {
     let dim = r.u();
     let global_nodes = r.u();
     let global_cells = r.u();
+    let kinds: Vec<u8> = r.us().into_iter().map(|b| b as u8).collect();
+    let cell_kinds = String::from_utf8_lossy(&kinds).into_owned();
     let owned_start = r.u();
     let owned_count = r.u();
     let node_global = r.us();
     let node_tag = r.us().into_iter().map(|t| t as u64).collect();
     let coords = r.f();
-    let cells = r.us();
+    let cells = r.cells();
     let ng = r.u();
     let groups = (0..ng)
         .map(|_| {
@@ -419,7 +445,7 @@ fn decode(buf: &[u8]) -> LocalMesh {
             Group {
                 name: String::from_utf8_lossy(&name).into_owned(),
                 dim: r.u(),
-                conn: r.us(),
+                conn: r.cells(),
             }
         })
         .collect();
@@ -427,6 +453,7 @@ fn decode(buf: &[u8]) -> LocalMesh {
         dim,
         global_nodes,
         global_cells,
+        cell_kinds,
         owned_start,
         owned_count,
         node_global,
@@ -515,6 +542,7 @@ mod tests {
                 cells.extend_from_slice(&[a, a + 1, a + 4, a, a + 4, a + 3]);
             }
         }
+        let cells = Cells::uniform(cells, 3);
         Mesh {
             dim: 2,
             coords,
@@ -524,7 +552,7 @@ mod tests {
             groups: vec![Group {
                 name: "bottom".into(),
                 dim: 1,
-                conn: vec![0, 1, 1, 2],
+                conn: Cells::uniform(vec![0, 1, 1, 2], 2),
             }],
         }
     }
@@ -547,10 +575,11 @@ mod tests {
             let back = decode(&encode(l));
             assert_eq!(back.node_global, l.node_global);
             assert_eq!(back.cells, l.cells);
+            assert_eq!(back.cell_kinds, "triangles");
             assert_eq!(back.coords, l.coords);
             assert_eq!(back.groups, l.groups);
             // every cell touches an owned node
-            for c in l.cells.chunks(3) {
+            for c in &l.cells {
                 assert!(c.iter().any(|&v| l.is_owned(v)));
             }
         }

@@ -11,15 +11,19 @@
 //!   sections (`$Periodic`, `$NodeData`, `$Comments`, ...) are skipped up to
 //!   their `$End...` line. Partitioned 4.1 meshes (`$PartitionedEntities`) are
 //!   not supported.
-//! * Element types 15 (point), 1 (2-node line), 2 (3-node triangle) and
-//!   4 (4-node tetrahedron). Any other type is an error.
+//! * Element types 15 (point), 1 (2-node line), 2 (3-node triangle),
+//!   3 (4-node quadrilateral), 4 (4-node tetrahedron), 5 (8-node
+//!   hexahedron), 6 (6-node prism) and 7 (5-node pyramid), in any mix. Any
+//!   other type is an error that names it in words ("second-order triangle
+//!   (Gmsh type 9) is not supported").
 //!
 //! # Result
 //!
-//! The mesh is 3D when there are tetrahedra, else 2D when there are
-//! triangles (the z coordinate is dropped: the triangles must lie in a plane
-//! z = constant), else an error. [`Mesh::cells`] holds every element of the
-//! top dimension, with or without a physical group. Every physical group of lower dimension becomes a [`Group`] (one of the
+//! The mesh is 3D when there are 3D cells (tetrahedra, hexahedra, prisms,
+//! pyramids), else 2D when there
+//! are triangles or quadrilaterals (the z coordinate is dropped: they must lie
+//! in a plane z = constant), else an error. [`Mesh::cells`] holds every element
+//! of the top dimension in file order, with or without a physical group. Every physical group of lower dimension becomes a [`Group`] (one of the
 //! top dimension becomes a [`Group`] without elements, its name kept for messages), named
 //! from `$PhysicalNames` (or the decimal tag when unnamed); groups come in the
 //! order in which their first element appears, followed by named groups that
@@ -43,7 +47,7 @@
 //! never panics, and its allocations stay proportional to the input size
 //! (header counts are not trusted).
 
-use super::{Group, Mesh, MeshError};
+use super::{Cells, Group, Mesh, MeshError};
 use std::collections::hash_map::Entry;
 use std::collections::{HashMap, HashSet};
 use std::fmt;
@@ -63,15 +67,62 @@ pub fn parse_gmsh(bytes: &[u8], file_name: &str) -> Result<Mesh, MeshError> {
     Reader::new(bytes, file_name).parse()
 }
 
-/// Dimension of a supported Gmsh element type; its node count is dimension + 1.
-fn element_dim(gmsh_type: i32) -> Option<usize> {
+/// Dimension and node count of a supported Gmsh element type.
+fn element_info(gmsh_type: i32) -> Option<(usize, usize)> {
     match gmsh_type {
-        15 => Some(0),
-        1 => Some(1),
-        2 => Some(2),
-        4 => Some(3),
+        15 => Some((0, 1)),
+        1 => Some((1, 2)),
+        2 => Some((2, 3)),
+        3 => Some((2, 4)),
+        4 => Some((3, 4)),
+        5 => Some((3, 8)),
+        6 => Some((3, 6)),
+        7 => Some((3, 5)),
         _ => None,
     }
+}
+
+/// The most nodes a supported element has.
+const MAX_NODES: usize = 8;
+
+/// Gmsh's element types in words (Gmsh reference manual, "MSH file format").
+fn gmsh_type_name(gmsh_type: i32) -> Option<&'static str> {
+    Some(match gmsh_type {
+        1 => "2-node line",
+        2 => "3-node triangle",
+        3 => "4-node quadrilateral",
+        4 => "4-node tetrahedron",
+        5 => "8-node hexahedron",
+        6 => "6-node prism",
+        7 => "5-node pyramid",
+        8 => "second-order line",
+        9 => "second-order triangle",
+        10 => "second-order 9-node quadrilateral",
+        11 => "second-order tetrahedron",
+        12 => "second-order 27-node hexahedron",
+        13 => "second-order 18-node prism",
+        14 => "second-order 14-node pyramid",
+        15 => "point",
+        16 => "second-order 8-node quadrilateral",
+        17 => "second-order 20-node hexahedron",
+        18 => "second-order 15-node prism",
+        19 => "second-order 13-node pyramid",
+        20 => "third-order incomplete triangle",
+        21 => "third-order triangle",
+        22 => "fourth-order incomplete triangle",
+        23 => "fourth-order triangle",
+        24 => "fifth-order incomplete triangle",
+        25 => "fifth-order triangle",
+        26 => "third-order line",
+        27 => "fourth-order line",
+        28 => "fifth-order line",
+        29 => "third-order tetrahedron",
+        30 => "fourth-order tetrahedron",
+        31 => "fifth-order tetrahedron",
+        92 => "third-order hexahedron",
+        93 => "fourth-order hexahedron",
+        _ => return None,
+    })
 }
 
 /// A token for an error message: escaped to one line, and shortened.
@@ -186,7 +237,7 @@ impl NodeMap {
 struct GroupAcc {
     dim: usize,
     tag: i32,
-    conn: Vec<usize>,
+    conn: Cells,
 }
 
 struct Reader<'a> {
@@ -215,18 +266,20 @@ struct Reader<'a> {
     nodes_at: usize,
     /// Offset of the `$Elements` header, once seen.
     elements_at: Option<usize>,
-    tris: Vec<usize>,
-    tets: Vec<usize>,
-    /// Element tags in the file of the triangles and tetrahedra.
-    tri_tags: Vec<u64>,
-    tet_tags: Vec<u64>,
+    /// Cells of dimension 2 (triangles, quadrilaterals) and 3 (tetrahedra,
+    /// hexahedra), in file order.
+    cells2: Cells,
+    cells3: Cells,
+    /// Their element tags in the file.
+    tags2: Vec<u64>,
+    tags3: Vec<u64>,
     groups: Vec<GroupAcc>,
     group_index: HashMap<(usize, i32), usize>,
     last_group: Option<(usize, i32, usize)>,
     /// Group connectivity entries so far (4.1 can multiply them by entity).
     group_entries: usize,
-    /// Previous 2.2 element (dimension, nodes), to skip Gmsh's repeated cells.
-    prev_v2: Option<(usize, [usize; 4])>,
+    /// Previous 2.2 element (type, nodes), to skip Gmsh's repeated cells.
+    prev_v2: Option<(i32, [usize; MAX_NODES])>,
 }
 
 impl<'a> Reader<'a> {
@@ -249,10 +302,10 @@ impl<'a> Reader<'a> {
             nodes_seen: false,
             nodes_at: 0,
             elements_at: None,
-            tris: Vec::new(),
-            tets: Vec::new(),
-            tri_tags: Vec::new(),
-            tet_tags: Vec::new(),
+            cells2: Cells::new(),
+            cells3: Cells::new(),
+            tags2: Vec::new(),
+            tags3: Vec::new(),
             groups: Vec::new(),
             group_index: HashMap::new(),
             last_group: None,
@@ -840,15 +893,24 @@ impl<'a> Reader<'a> {
         self.expect_end("$EndElements")
     }
 
-    fn check_type(&self, at: usize, gmsh_type: i32) -> Res<usize> {
-        element_dim(gmsh_type).ok_or_else(|| {
-            self.err(
-                at,
-                format_args!(
-                    "unsupported element type {gmsh_type} \
-                     (only P1 points, lines, triangles, tetrahedra)"
+    /// Dimension and node count of a supported type, else an error naming it.
+    fn check_type(&self, at: usize, gmsh_type: i32) -> Res<(usize, usize)> {
+        element_info(gmsh_type).ok_or_else(|| {
+            const SUPPORTED: &str = "supported: points, 2-node lines, 3-node triangles, \
+                                     4-node quadrilaterals, 4-node tetrahedra, 8-node hexahedra, \
+                                     6-node prisms, 5-node pyramids";
+            match gmsh_type_name(gmsh_type) {
+                Some(name) => self.err(
+                    at,
+                    format_args!("{name} (Gmsh type {gmsh_type}) is not supported ({SUPPORTED})"),
                 ),
-            )
+                None => self.err(
+                    at,
+                    format_args!(
+                        "unknown element type {gmsh_type} (not a Gmsh element type; {SUPPORTED})"
+                    ),
+                ),
+            }
         })
     }
 
@@ -866,7 +928,7 @@ impl<'a> Reader<'a> {
                 let gmsh_type = self.b_i32()?;
                 let nf = self.b_i32()?;
                 let ntags = self.b_i32()?;
-                let dim = self.check_type(hat, gmsh_type)?;
+                let (dim, k) = self.check_type(hat, gmsh_type)?;
                 let Some(nf) = u64::try_from(nf).ok().filter(|&f| f > 0 && f <= n - done) else {
                     return Err(self.err(
                         hat,
@@ -888,8 +950,8 @@ impl<'a> Reader<'a> {
                             phys = v;
                         }
                     }
-                    let mut conn = [0usize; 4];
-                    for c in conn.iter_mut().take(dim + 1) {
+                    let mut conn = [0usize; MAX_NODES];
+                    for c in conn.iter_mut().take(k) {
                         let at = self.pos;
                         let t = self.b_i32()?;
                         *c = u64::try_from(t)
@@ -897,7 +959,7 @@ impl<'a> Reader<'a> {
                             .and_then(|u| self.node_map.get(u))
                             .ok_or_else(|| self.undefined_node(at, t))?;
                     }
-                    self.add_v2(dim, conn, phys, etag);
+                    self.add_v2(gmsh_type, dim, k, conn, phys, etag);
                 }
                 done += nf;
             }
@@ -906,7 +968,7 @@ impl<'a> Reader<'a> {
                 let etag = self.a_u64("element tag")?;
                 let (at, t) = self.token()?;
                 let gmsh_type = parse_i32(t).ok_or_else(|| self.bad(at, t, "element type"))?;
-                let dim = self.check_type(at, gmsh_type)?;
+                let (dim, k) = self.check_type(at, gmsh_type)?;
                 let ntags = self.a_u64("number of tags")?;
                 let mut phys = 0;
                 for j in 0..ntags {
@@ -915,8 +977,8 @@ impl<'a> Reader<'a> {
                         phys = v;
                     }
                 }
-                let mut conn = [0usize; 4];
-                for c in conn.iter_mut().take(dim + 1) {
+                let mut conn = [0usize; MAX_NODES];
+                for c in conn.iter_mut().take(k) {
                     let (at, t) = self.token()?;
                     let tag = parse_u64(t).ok_or_else(|| self.bad(at, t, "node tag"))?;
                     *c = self
@@ -924,7 +986,7 @@ impl<'a> Reader<'a> {
                         .get(tag)
                         .ok_or_else(|| self.undefined_node(at, tag))?;
                 }
-                self.add_v2(dim, conn, phys, etag);
+                self.add_v2(gmsh_type, dim, k, conn, phys, etag);
             }
         }
         Ok(())
@@ -932,28 +994,41 @@ impl<'a> Reader<'a> {
 
     /// Adds a 2.2 element; a cell repeating the previous element is Gmsh's
     /// copy for another physical group and only joins that group.
-    fn add_v2(&mut self, dim: usize, conn: [usize; 4], phys: i32, etag: u64) {
-        let repeat = self.prev_v2 == Some((dim, conn));
-        self.prev_v2 = Some((dim, conn));
-        let c = conn.get(..dim + 1).unwrap_or(&conn);
+    fn add_v2(
+        &mut self,
+        gmsh_type: i32,
+        dim: usize,
+        k: usize,
+        conn: [usize; MAX_NODES],
+        phys: i32,
+        etag: u64,
+    ) {
+        let repeat = self.prev_v2 == Some((gmsh_type, conn));
+        self.prev_v2 = Some((gmsh_type, conn));
+        let c = conn.get(..k).unwrap_or(&conn);
         if !repeat {
-            match dim {
-                2 => {
-                    self.tris.extend_from_slice(c);
-                    self.tri_tags.push(etag);
-                }
-                3 => {
-                    self.tets.extend_from_slice(c);
-                    self.tet_tags.push(etag);
-                }
-                _ => {}
-            }
+            self.add_cell(dim, c, etag);
         }
         if dim < 3 && phys != 0 {
             let g = self.group_slot(dim, phys);
             if let Some(group) = self.groups.get_mut(g) {
-                group.conn.extend_from_slice(c);
+                group.conn.push(c);
             }
+        }
+    }
+
+    /// Records a cell of dimension 2 or 3 (others are not cells).
+    fn add_cell(&mut self, dim: usize, c: &[usize], etag: u64) {
+        match dim {
+            2 => {
+                self.cells2.push(c);
+                self.tags2.push(etag);
+            }
+            3 => {
+                self.cells3.push(c);
+                self.tags3.push(etag);
+            }
+            _ => {}
         }
     }
 
@@ -970,7 +1045,7 @@ impl<'a> Reader<'a> {
             self.groups.push(GroupAcc {
                 dim,
                 tag,
-                conn: Vec::new(),
+                conn: Cells::new(),
             });
         }
         self.last_group = Some((dim, tag, g));
@@ -998,7 +1073,7 @@ impl<'a> Reader<'a> {
             let tat = self.here();
             let gmsh_type = self.int("element type")?;
             let nb = self.size("number of elements in the block")?;
-            let dim = self.check_type(tat, gmsh_type)?;
+            let (dim, k) = self.check_type(tat, gmsh_type)?;
             if usize::try_from(edim).ok() != Some(dim) {
                 return Err(self.err(
                     bat,
@@ -1042,10 +1117,9 @@ impl<'a> Reader<'a> {
                     }
                 }
             }
-            let k = dim + 1;
             for _ in 0..nb {
                 let etag = self.size("element tag")?;
-                let mut conn = [0usize; 4];
+                let mut conn = [0usize; MAX_NODES];
                 for c in conn.iter_mut().take(k) {
                     let at = self.here();
                     let tag = self.size("node tag")?;
@@ -1055,20 +1129,10 @@ impl<'a> Reader<'a> {
                         .ok_or_else(|| self.undefined_node(at, tag))?;
                 }
                 let c = conn.get(..k).unwrap_or(&conn);
-                match dim {
-                    2 => {
-                        self.tris.extend_from_slice(c);
-                        self.tri_tags.push(etag);
-                    }
-                    3 => {
-                        self.tets.extend_from_slice(c);
-                        self.tet_tags.push(etag);
-                    }
-                    _ => {}
-                }
+                self.add_cell(dim, c, etag);
                 for &g in &slots {
                     if let Some(group) = self.groups.get_mut(g) {
-                        group.conn.extend_from_slice(c);
+                        group.conn.push(c);
                     }
                 }
                 self.group_entries = self.group_entries.saturating_add(k * slots.len());
@@ -1092,22 +1156,27 @@ impl<'a> Reader<'a> {
         Ok(())
     }
 
-    /// A 2D mesh loses its z coordinate: its triangles must lie in a plane
+    /// A 2D mesh loses its z coordinate: its cells must lie in a plane
     /// z = constant (up to rounding).
     fn check_planar(&self) -> Res<()> {
         let z = |v: usize| self.coords.get(3 * v + 2).copied().unwrap_or(0.0);
-        let Some(&first) = self.tris.first() else {
+        let Some(&first) = self.cells2.nodes().first() else {
             return Ok(());
         };
         let z0 = z(first);
         let scale = self.coords.iter().fold(1.0f64, |m, x| m.max(x.abs()));
         let tol = 1e-10 * scale;
-        match self.tris.iter().find(|&&v| (z(v) - z0).abs() > tol) {
+        match self
+            .cells2
+            .nodes()
+            .iter()
+            .find(|&&v| (z(v) - z0).abs() > tol)
+        {
             None => Ok(()),
             Some(&v) => Err(self.err(
                 self.nodes_at,
                 format_args!(
-                    "2D mesh (triangles, no tetrahedra) not in a plane z = constant: \
+                    "2D mesh (no 3D cells) not in a plane z = constant: \
                      node {} has z = {}, node {} has z = {z0}",
                     self.node_tags.get(v).copied().unwrap_or(0),
                     z(v),
@@ -1125,12 +1194,15 @@ impl<'a> Reader<'a> {
         let Some(elements_at) = self.elements_at else {
             return Err(self.err(end, "missing $Elements section"));
         };
-        let dim = if !self.tets.is_empty() {
+        let dim = if !self.cells3.is_empty() {
             3
-        } else if !self.tris.is_empty() {
+        } else if !self.cells2.is_empty() {
             2
         } else {
-            return Err(self.err(elements_at, "no triangles or tetrahedra"));
+            return Err(self.err(
+                elements_at,
+                "no cells (triangles, quadrilaterals, tetrahedra, hexahedra, prisms or pyramids)",
+            ));
         };
         if dim == 2 {
             self.check_planar()?;
@@ -1145,9 +1217,9 @@ impl<'a> Reader<'a> {
             xy
         };
         let (cells, cell_tags) = if dim == 3 {
-            (self.tets, self.tet_tags)
+            (self.cells3, self.tags3)
         } else {
-            (self.tris, self.tri_tags)
+            (self.cells2, self.tags2)
         };
         let mut groups = Vec::new();
         for g in self.groups {
@@ -1158,7 +1230,7 @@ impl<'a> Reader<'a> {
                 };
                 // A group of cells is kept by its name only, so that an
                 // option naming it is told its dimension.
-                let conn = if g.dim < dim { g.conn } else { Vec::new() };
+                let conn = if g.dim < dim { g.conn } else { Cells::new() };
                 groups.push(Group {
                     name,
                     dim: g.dim,
@@ -1172,7 +1244,7 @@ impl<'a> Reader<'a> {
                     groups.push(Group {
                         name: name.clone(),
                         dim: key.0,
-                        conn: Vec::new(),
+                        conn: Cells::new(),
                     });
                 }
             }
@@ -1302,11 +1374,21 @@ $EndElements
         }
     }
 
+    /// A group of simplices (`dim + 1` nodes each).
     fn group(name: &str, dim: usize, conn: &[usize]) -> Group {
         Group {
             name: name.to_string(),
             dim,
-            conn: conn.to_vec(),
+            conn: Cells::uniform(conn.to_vec(), dim + 1),
+        }
+    }
+
+    /// A group of elements of any sizes.
+    fn group_of(name: &str, dim: usize, elems: &[&[usize]]) -> Group {
+        Group {
+            name: name.to_string(),
+            dim,
+            conn: elems.iter().map(|e| e.to_vec()).collect(),
         }
     }
 
@@ -1315,7 +1397,7 @@ $EndElements
             dim: 2,
             coords: vec![0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0],
             node_tags: vec![1, 2, 3, 4],
-            cells: vec![0, 1, 2, 0, 2, 3],
+            cells: Cells::uniform(vec![0, 1, 2, 0, 2, 3], 3),
             cell_tags: vec![],
             groups: vec![
                 group("corner", 0, &[0]),
@@ -1409,7 +1491,7 @@ $EndElements
                 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0,
             ],
             node_tags: vec![10, 20, 30, 2_000_000_000, 7],
-            cells: vec![0, 1, 2, 3, 1, 4, 2, 3],
+            cells: Cells::uniform(vec![0, 1, 2, 3, 1, 4, 2, 3], 4),
             cell_tags: vec![],
             groups: vec![
                 group("41", 1, &[1, 2]),
@@ -1731,7 +1813,7 @@ $EndElements
                 Ok(m) => {
                     assert_eq!(m, tets_expected(), "{what}");
                     assert_eq!(m.num_cells(), 2);
-                    assert_eq!(m.group("base").map(|g| g.nodes_per_element()), Some(3));
+                    assert_eq!(m.group("base").and_then(|g| g.conn.stride()), Some(3));
                 }
                 Err(e) => panic!("{what}: {e}"),
             }
@@ -1754,7 +1836,7 @@ $EndElements
             .replace("6 2 2 12 1 1 2 3", "6 2 0 1 2 3")
             .replace("3 1 2 1 1 1 2", "3 1 2 0 1 1 2");
         let m = ok(s.as_bytes());
-        assert_eq!(m.cells, vec![0, 1, 2, 0, 2, 3]);
+        assert_eq!(m.cells, Cells::uniform(vec![0, 1, 2, 0, 2, 3], 3));
         // "bottom" is named but has no elements: kept empty, after the others
         // (the cells' group "body" too, by its name).
         assert_eq!(m.groups.last(), Some(&group("bottom", 1, &[])));
@@ -1848,14 +1930,121 @@ $EndElements
 
     #[test]
     fn error_unsupported_element_type() {
-        let s = replace_line(SQ22, 27, "7 3 2 12 1 1 2 3 4");
+        let s = replace_line(SQ22, 27, "7 9 2 12 1 1 2 3 4 5 6");
         assert_eq!(
             err(s.as_bytes()),
-            "t.msh:27: unsupported element type 3 \
-             (only P1 points, lines, triangles, tetrahedra)"
+            "t.msh:27: second-order triangle (Gmsh type 9) is not supported \
+             (supported: points, 2-node lines, 3-node triangles, 4-node quadrilaterals, \
+             4-node tetrahedra, 8-node hexahedra, 6-node prisms, 5-node pyramids)"
         );
         let s = SQ41.replace("2 1 2 2\n", "2 1 9 2\n");
-        assert!(err(s.as_bytes()).starts_with("t.msh:48: unsupported element type 9 "));
+        assert!(err(s.as_bytes())
+            .starts_with("t.msh:48: second-order triangle (Gmsh type 9) is not supported ("));
+        for (t, words) in [
+            (8, "second-order line (Gmsh type 8)"),
+            (10, "second-order 9-node quadrilateral (Gmsh type 10)"),
+            (11, "second-order tetrahedron (Gmsh type 11)"),
+            (16, "second-order 8-node quadrilateral (Gmsh type 16)"),
+            (17, "second-order 20-node hexahedron (Gmsh type 17)"),
+            (21, "third-order triangle (Gmsh type 21)"),
+        ] {
+            let s = replace_line(SQ22, 27, &format!("7 {t} 2 12 1 1 2 3"));
+            assert!(err(s.as_bytes()).starts_with(&format!("t.msh:27: {words} is not supported (")));
+        }
+        let s = replace_line(SQ22, 27, "7 200 2 12 1 1 2 3");
+        assert!(err(s.as_bytes()).starts_with("t.msh:27: unknown element type 200 (not a Gmsh"));
+    }
+
+    /// A quadrilateral and a triangle sharing an edge, in 2D, with a
+    /// boundary line group; the 2.2 repeat rule compares the type too.
+    fn mixed2d() -> TMesh {
+        TMesh {
+            names: vec![(1, 1, "bottom"), (2, 2, "body")],
+            nodes: vec![
+                (1, [0.0, 0.0, 0.0]),
+                (2, [1.0, 0.0, 0.0]),
+                (3, [1.0, 1.0, 0.0]),
+                (4, [0.0, 1.0, 0.0]),
+                (5, [2.0, 0.5, 0.0]),
+            ],
+            elems: vec![
+                el(1, (1, 1), &[1], &[1, 2]),
+                el(3, (2, 1), &[2], &[1, 2, 3, 4]),
+                el(2, (2, 2), &[2], &[2, 5, 3]),
+            ],
+        }
+    }
+
+    /// A hexahedron and a tetrahedron on its top face, with a boundary
+    /// group holding the hexahedron's bottom quadrilateral and a triangle.
+    fn mixed3d() -> TMesh {
+        let mut nodes: Vec<(u64, [f64; 3])> = Vec::new();
+        for (i, c) in [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+            [0.0, 1.0, 1.0],
+            [0.5, 0.5, 2.0],
+        ]
+        .iter()
+        .enumerate()
+        {
+            nodes.push((i as u64 + 1, *c));
+        }
+        TMesh {
+            names: vec![(2, 1, "faces"), (3, 2, "solid")],
+            nodes,
+            elems: vec![
+                el(3, (2, 1), &[1], &[1, 4, 3, 2]),
+                el(2, (2, 2), &[1], &[5, 6, 9]),
+                el(5, (3, 1), &[2], &[1, 2, 3, 4, 5, 6, 7, 8]),
+                el(4, (3, 2), &[2], &[5, 6, 7, 9]),
+            ],
+        }
+    }
+
+    #[test]
+    fn mixed_cells_all_encodings() {
+        let m2 = Mesh {
+            dim: 2,
+            coords: vec![0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0, 2.0, 0.5],
+            node_tags: vec![1, 2, 3, 4, 5],
+            cells: vec![vec![0, 1, 2, 3], vec![1, 4, 2]].into_iter().collect(),
+            cell_tags: vec![],
+            groups: vec![group("bottom", 1, &[0, 1]), group("body", 2, &[])],
+        };
+        let m3 = Mesh {
+            dim: 3,
+            coords: mixed3d().nodes.iter().flat_map(|(_, x)| *x).collect(),
+            node_tags: (1..=9).collect(),
+            cells: vec![(0..8).collect(), vec![4, 5, 6, 8]]
+                .into_iter()
+                .collect(),
+            cell_tags: vec![],
+            groups: vec![
+                group_of("faces", 2, &[&[0, 3, 2, 1], &[4, 5, 8]]),
+                group("solid", 3, &[]),
+            ],
+        };
+        for (mesh, expected) in [(mixed2d(), m2), (mixed3d(), m3)] {
+            for (what, bytes) in variants(&mesh) {
+                match parse(&bytes) {
+                    Ok(m) => {
+                        assert_eq!(m, expected, "{what}");
+                        assert_eq!(m.cells.stride(), None, "{what}");
+                        assert_eq!(m.cell_tags.len(), 2, "{what}");
+                    }
+                    Err(e) => panic!("{what}: {e}"),
+                }
+            }
+        }
+        let m = ok(&write_v2(&mixed3d(), false, false));
+        assert_eq!(m.cell_kinds_label(), "tetrahedra and hexahedra");
+        assert!((m.signed_measure(0) - 1.0).abs() < 1e-14);
     }
 
     #[test]
@@ -1929,7 +2118,10 @@ $EndElements
         let s = SQ22
             .replace("7\n1 15", "5\n1 15")
             .replace("6 2 2 12 1 1 2 3\n7 2 2 12 1 1 3 4\n", "");
-        assert_eq!(err(s.as_bytes()), "t.msh:19: no triangles or tetrahedra");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:19: no cells (triangles, quadrilaterals, tetrahedra, hexahedra, prisms or pyramids)"
+        );
         let s = SQ41.replace("1 3 1 1\n4 3 4", "1 4 1 1\n4 3 4");
         assert_eq!(
             err(s.as_bytes()),
@@ -1953,7 +2145,7 @@ $EndElements
         let s = replace_line(SQ22, 15, "3 1 1 0.5");
         assert_eq!(
             err(s.as_bytes()),
-            "t.msh:11: 2D mesh (triangles, no tetrahedra) not in a plane z = constant: \
+            "t.msh:11: 2D mesh (no 3D cells) not in a plane z = constant: \
              node 3 has z = 0.5, node 1 has z = 0"
         );
         // A constant z, or an off-plane node no triangle uses, is fine.
@@ -1988,8 +2180,10 @@ $EndElements
         let b = write_v2(&square(), true, false);
         let el = b.windows(10).position(|w| w == b"$Elements\n").unwrap() + 12;
         let mut bad = b.clone();
-        bad[el..el + 4].copy_from_slice(&3i32.to_le_bytes());
-        assert!(err(&bad).starts_with(&format!("t.msh: byte {el}: unsupported element type 3 ")));
+        bad[el..el + 4].copy_from_slice(&9i32.to_le_bytes());
+        assert!(err(&bad).starts_with(&format!(
+            "t.msh: byte {el}: second-order triangle (Gmsh type 9) is not supported"
+        )));
         let mut bad = b.clone();
         bad[el + 24..el + 28].copy_from_slice(&(-1i32).to_le_bytes());
         assert_eq!(
@@ -2063,7 +2257,7 @@ $EndElements
                 let d = m.dim;
                 assert!(d == 2 || d == 3);
                 assert_eq!(m.coords.len(), d * m.node_tags.len());
-                assert!(m.cells.iter().all(|&v| v < m.node_tags.len()));
+                assert!(m.cells.nodes().iter().all(|&v| v < m.node_tags.len()));
             }
             Ok(Err(e)) => {
                 assert!(e.0.starts_with("f.msh"), "{what}: {e}");
@@ -2082,7 +2276,11 @@ $EndElements
             ("SQ22".into(), SQ22.as_bytes().to_vec()),
             ("SQ41".into(), SQ41.as_bytes().to_vec()),
         ];
-        for (what, b) in variants(&square()).into_iter().chain(variants(&tets())) {
+        for (what, b) in variants(&square())
+            .into_iter()
+            .chain(variants(&tets()))
+            .chain(variants(&mixed3d()))
+        {
             files.push((what.to_string(), b));
         }
         let mut runs = 0;

@@ -24,7 +24,7 @@
 //! counter-clockwise. The node numbering is ring by ring, from the centre
 //! outwards.
 
-use super::{Group, Mesh, MeshError};
+use super::{Cells, Group, Mesh, MeshError};
 use std::f64::consts::FRAC_PI_2;
 
 /// Radius of the cylinder; its centre is `(0, R)`.
@@ -135,7 +135,7 @@ pub fn generate(h: f64) -> Result<Mesh, MeshError> {
     let line = |name: &str, conn: Vec<usize>| Group {
         name: name.to_string(),
         dim: 1,
-        conn,
+        conn: Cells::uniform(conn, 2),
     };
 
     Ok(Mesh {
@@ -143,11 +143,193 @@ pub fn generate(h: f64) -> Result<Mesh, MeshError> {
         coords,
         node_tags: (1..=n_nodes as u64).collect(),
         cell_tags: (1..=(cells.len() / 3) as u64).collect(),
-        cells,
+        cells: Cells::uniform(cells, 3),
         groups: vec![
             line("contact", contact),
             line("symmetry", symmetry),
             line("top", top),
+        ],
+    })
+}
+
+/// Side of the O-grid's inner square over the radius (see [`generate_quad`]).
+const SQUARE: f64 = 0.45;
+
+/// Q1 quadrilateral mesh of the same quarter cylinder: an O-grid of three
+/// structured blocks, selected with `-mesh_generate hertz2d -mesh_element
+/// quad -mesh_h H`.
+///
+/// The square `[0, a] x [R - a, R]` (`a = 0.45 R`, one corner at the centre
+/// `(0, R)`) carries `n x n` cells, `n = ceil((pi R / 4) / h)`. Two curved
+/// blocks of `n x m` cells join its lower and right edges to the two halves
+/// of the arc, by linear blending between the square's edge and the arc
+/// (`m = round(r / h)`, `r` the mean distance from the square to the arc,
+/// `((R - a) + (R - sqrt(2) a)) / 2`). The arc gets `2 n + 1` nodes equally
+/// spaced in angle, about `h` apart, like [`generate`]'s; the quadrilaterals
+/// in the square are smaller (`a / n`, about `0.57 h`), so the mesh has
+/// about 1.5 times the nodes of [`generate`] at the same `h`. Every cell is
+/// counter-clockwise and convex; the groups have the names and
+/// orientations of [`generate`]'s. Nodes are numbered square first (row by
+/// row from the centre down), then the lower block, then the right one.
+pub fn generate_quad(h: f64) -> Result<Mesh, MeshError> {
+    if !h.is_finite() || h <= 0.0 {
+        return Err(MeshError(format!(
+            "option -mesh_h: {h} is not a positive finite element size (-mesh_generate hertz2d)"
+        )));
+    }
+    let a = SQUARE * R;
+    let reach = 0.5 * ((R - a) + (R - std::f64::consts::SQRT_2 * a));
+    let nf = (R * std::f64::consts::FRAC_PI_4 / h).ceil().max(1.0);
+    let mf = (reach / h).round().max(1.0);
+    let estimate = (nf + 1.0) * (nf + 1.0) + 2.0 * mf * (nf + 1.0);
+    if estimate > MAX_NODES {
+        return Err(MeshError(format!(
+            "option -mesh_h: {h} is too small for -mesh_generate hertz2d \
+             (about {estimate:.2e} nodes, the limit is {MAX_NODES:.0e})"
+        )));
+    }
+    let (n, m) = (nf as usize, mf as usize);
+    let arc = |theta: f64| {
+        let (sin, cos) = theta.sin_cos();
+        [R * sin, R - R * cos]
+    };
+    let blend =
+        |p: [f64; 2], q: [f64; 2], u: f64| [p[0] + u * (q[0] - p[0]), p[1] + u * (q[1] - p[1])];
+    let frac = |i: usize, n: usize| i as f64 / n as f64;
+    // Square node (i, j): i rows down from the centre, j columns right.
+    let sq = |i: usize, j: usize| i * (n + 1) + j;
+    let sq_x = |i: usize, j: usize| [a * frac(j, n), R - a * frac(i, n)];
+    // Lower block row k >= 1 (k = 0 is the square's last row), column j.
+    let lower = |k: usize, j: usize| {
+        if k == 0 {
+            sq(n, j)
+        } else {
+            (n + 1) * (n + 1) + (k - 1) * (n + 1) + j
+        }
+    };
+    // Right block column k >= 1 (k = 0 is the square's last column), row i;
+    // its row n is the lower block's column n (the diagonal).
+    let right = |k: usize, i: usize| {
+        if k == 0 {
+            sq(i, n)
+        } else if i == n {
+            lower(k, n)
+        } else {
+            (n + 1) * (n + 1) + m * (n + 1) + (k - 1) * n + i
+        }
+    };
+    let n_nodes = (n + 1) * (n + 1) + m * (n + 1) + m * n;
+    let quarter = std::f64::consts::FRAC_PI_4;
+    // Exact on the straight edges and at the arc's ends.
+    let lower_x = |k: usize, j: usize| {
+        let q = if j == 0 {
+            [0.0, 0.0]
+        } else {
+            arc(quarter * frac(j, n))
+        };
+        let mut p = if k == m {
+            q
+        } else {
+            blend(sq_x(n, j), q, frac(k, m))
+        };
+        if j == 0 {
+            p[0] = 0.0;
+        }
+        p
+    };
+    let right_x = |k: usize, i: usize| {
+        let q = if i == 0 {
+            [R, R]
+        } else {
+            arc(FRAC_PI_2 - quarter * frac(i, n))
+        };
+        let mut p = if k == m {
+            q
+        } else {
+            blend(sq_x(i, n), q, frac(k, m))
+        };
+        if i == 0 {
+            p[1] = R;
+        }
+        p
+    };
+    let mut coords = vec![0.0; 2 * n_nodes];
+    let mut set = |v: usize, p: [f64; 2]| {
+        coords[2 * v] = p[0];
+        coords[2 * v + 1] = p[1];
+    };
+    for i in 0..=n {
+        for j in 0..=n {
+            set(sq(i, j), sq_x(i, j));
+        }
+    }
+    for k in 1..=m {
+        for j in 0..=n {
+            set(lower(k, j), lower_x(k, j));
+        }
+        for i in 0..n {
+            set(right(k, i), right_x(k, i));
+        }
+    }
+
+    let mut cells = Vec::with_capacity(4 * (n * n + 2 * n * m));
+    for i in 0..n {
+        for j in 0..n {
+            cells.extend_from_slice(&[sq(i, j), sq(i + 1, j), sq(i + 1, j + 1), sq(i, j + 1)]);
+        }
+    }
+    for k in 0..m {
+        for j in 0..n {
+            cells.extend_from_slice(&[
+                lower(k, j),
+                lower(k + 1, j),
+                lower(k + 1, j + 1),
+                lower(k, j + 1),
+            ]);
+        }
+    }
+    for k in 0..m {
+        for i in 0..n {
+            cells.extend_from_slice(&[
+                right(k, i),
+                right(k, i + 1),
+                right(k + 1, i + 1),
+                right(k + 1, i),
+            ]);
+        }
+    }
+    // Boundary groups along the counter-clockwise boundary, as generate's.
+    let path = |nodes: Vec<usize>| -> Cells {
+        Cells::uniform(nodes.windows(2).flatten().copied().collect(), 2)
+    };
+    let contact: Vec<usize> = (0..=n)
+        .map(|j| lower(m, j))
+        .chain((0..n).rev().map(|i| right(m, i)))
+        .collect();
+    let top: Vec<usize> = (1..=m)
+        .rev()
+        .map(|k| right(k, 0))
+        .chain((0..=n).rev().map(|j| sq(0, j)))
+        .collect();
+    let symmetry: Vec<usize> = (0..=n)
+        .map(|i| sq(i, 0))
+        .chain((1..=m).map(|k| lower(k, 0)))
+        .collect();
+    let line = |name: &str, conn: Cells| Group {
+        name: name.to_string(),
+        dim: 1,
+        conn,
+    };
+    Ok(Mesh {
+        dim: 2,
+        coords,
+        node_tags: (1..=n_nodes as u64).collect(),
+        cell_tags: (1..=(cells.len() / 4) as u64).collect(),
+        cells: Cells::uniform(cells, 4),
+        groups: vec![
+            line("contact", path(contact)),
+            line("symmetry", path(symmetry)),
+            line("top", path(top)),
         ],
     })
 }
@@ -169,7 +351,7 @@ mod tests {
     /// Smallest angle (degrees) of the mesh.
     fn min_angle(m: &Mesh) -> f64 {
         let mut min = 180.0f64;
-        for t in m.cells.chunks(3) {
+        for t in m.cells.iter() {
             for c in 0..3 {
                 let o = point(m, t[c]);
                 let u = point(m, t[(c + 1) % 3]);
@@ -185,7 +367,7 @@ mod tests {
     fn group_length(m: &Mesh, name: &str) -> f64 {
         let g = m.group(name).unwrap();
         g.conn
-            .chunks(2)
+            .iter()
             .map(|e| dist(point(m, e[0]), point(m, e[1])))
             .sum()
     }
@@ -207,7 +389,7 @@ mod tests {
             let outer = m.group("contact").unwrap();
             let segments: f64 = outer
                 .conn
-                .chunks(2)
+                .iter()
                 .map(|e| {
                     let c = dist(point(&m, e[0]), point(&m, e[1]));
                     let theta = 2.0 * (c / (2.0 * R)).asin();
@@ -251,22 +433,22 @@ mod tests {
             assert!((group_length(&m, "top") - 8.0).abs() < 1e-12);
 
             // Nodes of each group on their curve.
-            for e in &m.group("contact").unwrap().conn {
+            for e in m.group("contact").unwrap().conn.nodes() {
                 let p = point(&m, *e);
                 assert!((dist(p, [0.0, R]) - R).abs() < 1e-13, "h = {h}: {p:?}");
                 assert!(p[0] >= 0.0 && p[1] <= R);
             }
-            for e in &m.group("symmetry").unwrap().conn {
+            for e in m.group("symmetry").unwrap().conn.nodes() {
                 assert_eq!(point(&m, *e)[0], 0.0);
             }
-            for e in &m.group("top").unwrap().conn {
+            for e in m.group("top").unwrap().conn.nodes() {
                 assert_eq!(point(&m, *e)[1], R);
             }
 
             // Boundary edges (used by one triangle), as sorted node pairs,
             // with their counter-clockwise orientation.
             let mut count: HashMap<(usize, usize), (usize, (usize, usize))> = HashMap::new();
-            for t in m.cells.chunks(3) {
+            for t in m.cells.iter() {
                 for c in 0..3 {
                     let (a, b) = (t[c], t[(c + 1) % 3]);
                     let e = count.entry((a.min(b), a.max(b))).or_insert((0, (a, b)));
@@ -281,7 +463,7 @@ mod tests {
                 .collect();
             let mut seen = HashMap::new();
             for g in &m.groups {
-                for e in g.conn.chunks(2) {
+                for e in g.conn.iter() {
                     let key = (e[0].min(e[1]), e[0].max(e[1]));
                     let orient = boundary.get(&key);
                     assert!(
@@ -312,6 +494,7 @@ mod tests {
                 m.group(name)
                     .unwrap()
                     .conn
+                    .nodes()
                     .iter()
                     .any(|&v| point(&m, v) == p)
             };
@@ -327,10 +510,10 @@ mod tests {
             let m = generate(h).unwrap();
             let n = m.num_nodes();
             assert_eq!(m.node_tags, (1..=n as u64).collect::<Vec<_>>());
-            assert!(m.cells.iter().all(|&v| v < n));
+            assert!(m.cells.nodes().iter().all(|&v| v < n));
             // Every node in a cell.
             let mut used = vec![false; n];
-            m.cells.iter().for_each(|&v| used[v] = true);
+            m.cells.nodes().iter().for_each(|&v| used[v] = true);
             assert!(used.iter().all(|&u| u));
             // Euler: V - E + F = 1 for a disk, E = (3F + boundary edges) / 2.
             let nb: usize = m.groups.iter().map(|g| g.len()).sum();
@@ -343,6 +526,106 @@ mod tests {
         }
         let coarse = generate(100.0).unwrap();
         assert_eq!((coarse.num_nodes(), coarse.num_cells()), (3, 1));
+    }
+
+    #[test]
+    fn quad_mesh_is_valid() {
+        for h in SIZES {
+            let m = generate_quad(h).unwrap();
+            let n = m.num_nodes();
+            assert_eq!(m.cells.stride(), Some(4));
+            assert_eq!(m.node_tags, (1..=n as u64).collect::<Vec<_>>());
+            // Convex and counter-clockwise: det J > 0 at the Gauss points
+            // and at the corners (the cross products of the edges).
+            let mut area = 0.0;
+            for (c, q) in m.cells.iter().enumerate() {
+                let (lo, _) = m.jacobian_range(c);
+                assert!(lo > 0.0, "h = {h}: cell {c}");
+                for i in 0..4 {
+                    let (o, u, w) = (
+                        point(&m, q[i]),
+                        point(&m, q[(i + 1) % 4]),
+                        point(&m, q[(i + 3) % 4]),
+                    );
+                    let cross = (u[0] - o[0]) * (w[1] - o[1]) - (u[1] - o[1]) * (w[0] - o[0]);
+                    assert!(cross > 0.0, "h = {h}: cell {c} corner {i}");
+                }
+                area += m.signed_measure(c);
+            }
+            let outer = m.group("contact").unwrap();
+            let segments: f64 = outer
+                .conn
+                .iter()
+                .map(|e| {
+                    let c = dist(point(&m, e[0]), point(&m, e[1]));
+                    let theta = 2.0 * (c / (2.0 * R)).asin();
+                    0.5 * R * R * (theta - theta.sin())
+                })
+                .sum();
+            let polygon = 0.25 * PI * R * R - segments;
+            assert!(
+                (area - polygon).abs() < 1e-10 * polygon,
+                "h = {h}: {area} vs {polygon}"
+            );
+            // Arc nodes on the circle, equally spaced in angle, about h apart.
+            let arc: Vec<[f64; 2]> = outer.conn.iter().map(|e| point(&m, e[0])).collect();
+            for p in &arc {
+                assert!((dist(*p, [0.0, R]) - R).abs() < 1e-13);
+            }
+            let l0 = dist(arc[0], arc[1]);
+            assert!(arc
+                .windows(2)
+                .all(|w| (dist(w[0], w[1]) - l0).abs() < 1e-12));
+            assert!(
+                l0 <= h * 1.0001 || outer.len() <= 2,
+                "h = {h}: arc spacing {l0}"
+            );
+            // Boundary edges (used by one quadrilateral) are the groups'
+            // edges, oriented counter-clockwise; the groups' lengths.
+            let mut count: HashMap<(usize, usize), (usize, (usize, usize))> = HashMap::new();
+            for q in &m.cells {
+                for c in 0..4 {
+                    let (a, b) = (q[c], q[(c + 1) % 4]);
+                    let e = count.entry((a.min(b), a.max(b))).or_insert((0, (a, b)));
+                    e.0 += 1;
+                }
+            }
+            assert!(count.values().all(|&(k, _)| k <= 2), "h = {h}");
+            let boundary: HashMap<(usize, usize), (usize, usize)> = count
+                .iter()
+                .filter(|(_, &(k, _))| k == 1)
+                .map(|(&k, &(_, o))| (k, o))
+                .collect();
+            let mut seen = 0;
+            for g in &m.groups {
+                for e in &g.conn {
+                    let key = (e[0].min(e[1]), e[0].max(e[1]));
+                    assert_eq!(
+                        boundary.get(&key),
+                        Some(&(e[0], e[1])),
+                        "h = {h}: {} edge {e:?}",
+                        g.name
+                    );
+                    seen += 1;
+                }
+            }
+            assert_eq!(seen, boundary.len(), "h = {h}");
+            assert!((group_length(&m, "symmetry") - 8.0).abs() < 1e-12);
+            assert!((group_length(&m, "top") - 8.0).abs() < 1e-12);
+            for &v in m.group("symmetry").unwrap().conn.nodes() {
+                assert_eq!(point(&m, v)[0], 0.0);
+            }
+            for &v in m.group("top").unwrap().conn.nodes() {
+                assert_eq!(point(&m, v)[1], R);
+            }
+            // Euler for a disk: V - E + F = 1.
+            let edges = count.len();
+            assert_eq!(n + m.num_cells(), 1 + edges, "h = {h}");
+            let used: std::collections::HashSet<usize> = m.cells.nodes().iter().copied().collect();
+            assert_eq!(used.len(), n);
+        }
+        assert_eq!(generate_quad(0.3).unwrap(), generate_quad(0.3).unwrap());
+        assert!(generate_quad(1e-5).unwrap_err().0.contains("-mesh_h"));
     }
 
     #[test]

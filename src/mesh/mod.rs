@@ -1,52 +1,322 @@
 //! Meshes: the serial mesh that rank 0 reads or generates, and its
 //! distribution over the ranks (`partition`).
 //!
-//! A [`Mesh`] is P1 only: triangles in 2D, tetrahedra in 3D. Lower-dimensional
-//! physical groups (points, lines, and triangles in 3D) are kept as named
+//! A [`Mesh`] holds linear (first-order) cells: P1 triangles and Q1
+//! (bilinear) quadrilaterals in 2D; P1 tetrahedra, Q1 (trilinear)
+//! hexahedra, and the 6-node prisms and 5-node pyramids that join them in
+//! 3D, in any mix. Lower-dimensional physical groups (points,
+//! lines, and triangles or quadrilaterals in 3D) are kept as named
 //! [`Group`]s, since boundary conditions refer to physical-group names.
+//!
+//! # Mixed cells
+//! Connectivity is stored flat with offsets, as in CSR ([`Cells`]); the
+//! offsets are left out while every cell has the same number of nodes, so a
+//! pure P1 (or pure Q1) mesh costs what it did before mixed meshes, and its
+//! loops run over fixed-size chunks. A cell's kind follows from the mesh's
+//! dimension and its node count ([`CellKind::of`]): 3 or 4 nodes in 2D,
+//! 4, 5, 6 or 8 in 3D.
 
 pub mod block3d;
 pub mod distribute;
 pub mod gmsh;
 pub mod hertz2d;
 
+use crate::error::{bad, Error};
+use crate::options::MeshSource;
 use std::fmt;
+
+/// The element shapes a mesh can hold: cells of the top dimension and
+/// boundary facets (points, lines, triangles, quadrilaterals). Node order
+/// is Gmsh's: counter-clockwise corners for a quadrilateral, the bottom
+/// face's four corners then the top face's for a hexahedron, the bottom
+/// triangle then the top one for a prism, the base quadrilateral then the
+/// apex for a pyramid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CellKind {
+    Point,
+    Line,
+    Triangle,
+    Quadrilateral,
+    Tetrahedron,
+    Hexahedron,
+    Prism,
+    Pyramid,
+}
+
+impl CellKind {
+    /// The kind of an element of dimension `dim` with `nodes` nodes.
+    pub fn of(dim: usize, nodes: usize) -> Option<CellKind> {
+        match (dim, nodes) {
+            (0, 1) => Some(CellKind::Point),
+            (1, 2) => Some(CellKind::Line),
+            (2, 3) => Some(CellKind::Triangle),
+            (2, 4) => Some(CellKind::Quadrilateral),
+            (3, 4) => Some(CellKind::Tetrahedron),
+            (3, 8) => Some(CellKind::Hexahedron),
+            (3, 6) => Some(CellKind::Prism),
+            (3, 5) => Some(CellKind::Pyramid),
+            _ => None,
+        }
+    }
+
+    pub fn dim(self) -> usize {
+        match self {
+            CellKind::Point => 0,
+            CellKind::Line => 1,
+            CellKind::Triangle | CellKind::Quadrilateral => 2,
+            CellKind::Tetrahedron | CellKind::Hexahedron | CellKind::Prism | CellKind::Pyramid => 3,
+        }
+    }
+
+    pub fn nodes(self) -> usize {
+        match self {
+            CellKind::Point => 1,
+            CellKind::Line => 2,
+            CellKind::Triangle => 3,
+            CellKind::Quadrilateral | CellKind::Tetrahedron => 4,
+            CellKind::Hexahedron => 8,
+            CellKind::Prism => 6,
+            CellKind::Pyramid => 5,
+        }
+    }
+
+    /// Name, for messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            CellKind::Point => "point",
+            CellKind::Line => "line",
+            CellKind::Triangle => "triangle",
+            CellKind::Quadrilateral => "quadrilateral",
+            CellKind::Tetrahedron => "tetrahedron",
+            CellKind::Hexahedron => "hexahedron",
+            CellKind::Prism => "prism",
+            CellKind::Pyramid => "pyramid",
+        }
+    }
+
+    /// Plural name, for summaries and messages.
+    pub fn plural(self) -> &'static str {
+        match self {
+            CellKind::Point => "points",
+            CellKind::Line => "lines",
+            CellKind::Triangle => "triangles",
+            CellKind::Quadrilateral => "quadrilaterals",
+            CellKind::Tetrahedron => "tetrahedra",
+            CellKind::Hexahedron => "hexahedra",
+            CellKind::Prism => "prisms",
+            CellKind::Pyramid => "pyramids",
+        }
+    }
+}
+
+/// Element connectivity: node indices of each element, stored flat. While
+/// every element has the same number of nodes (the `stride`) there are no
+/// offsets; the first element of another size switches to CSR offsets
+/// (`offsets[e]..offsets[e + 1]` in `nodes`). Equality compares the elements,
+/// not the storage.
+#[derive(Clone, Debug, Default)]
+pub struct Cells {
+    nodes: Vec<usize>,
+    /// Nodes per element while all have the same count (0: empty, or mixed).
+    stride: usize,
+    /// `len() + 1` offsets when mixed, else empty.
+    offsets: Vec<usize>,
+}
+
+impl PartialEq for Cells {
+    fn eq(&self, o: &Cells) -> bool {
+        self.len() == o.len() && self.iter().zip(o.iter()).all(|(a, b)| a == b)
+    }
+}
+
+impl Cells {
+    /// An empty list.
+    pub fn new() -> Cells {
+        Cells::default()
+    }
+
+    /// Elements of `k` nodes each, from their flat connectivity.
+    pub fn uniform(nodes: Vec<usize>, k: usize) -> Cells {
+        assert!(
+            k > 0 && nodes.len().is_multiple_of(k),
+            "{} nodes in elements of {k}",
+            nodes.len()
+        );
+        Cells {
+            stride: if nodes.is_empty() { 0 } else { k },
+            nodes,
+            offsets: Vec::new(),
+        }
+    }
+
+    /// Rebuilds a list from the parts [`Cells::parts`] gave.
+    pub fn from_parts(nodes: Vec<usize>, stride: usize, offsets: Vec<usize>) -> Cells {
+        Cells {
+            nodes,
+            stride,
+            offsets,
+        }
+    }
+
+    /// The flat node list, the stride (0 if mixed or empty) and the offsets
+    /// (empty unless mixed).
+    pub fn parts(&self) -> (&[usize], usize, &[usize]) {
+        (&self.nodes, self.stride, &self.offsets)
+    }
+
+    pub fn len(&self) -> usize {
+        self.nodes
+            .len()
+            .checked_div(self.stride)
+            .unwrap_or_else(|| self.offsets.len().saturating_sub(1))
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The common node count of the elements, if they all have the same (and there are some).
+    pub fn stride(&self) -> Option<usize> {
+        (self.stride > 0).then_some(self.stride)
+    }
+
+    /// The largest node count of an element (0 if empty).
+    pub fn max_nodes(&self) -> usize {
+        if self.stride > 0 {
+            self.stride
+        } else {
+            self.offsets
+                .windows(2)
+                .map(|w| w[1] - w[0])
+                .max()
+                .unwrap_or(0)
+        }
+    }
+
+    /// The nodes of element `e`.
+    #[inline]
+    pub fn get(&self, e: usize) -> &[usize] {
+        if self.stride > 0 {
+            &self.nodes[e * self.stride..(e + 1) * self.stride]
+        } else {
+            &self.nodes[self.offsets[e]..self.offsets[e + 1]]
+        }
+    }
+
+    /// Appends an element.
+    pub fn push(&mut self, element: &[usize]) {
+        let k = element.len();
+        debug_assert!(k > 0, "an element without nodes");
+        if self.nodes.is_empty() {
+            self.stride = k;
+            self.offsets.clear();
+        } else if self.stride > 0 && self.stride != k {
+            // First element of another size: switch to offsets.
+            let s = self.stride;
+            self.offsets = (0..=self.nodes.len() / s).map(|e| e * s).collect();
+            self.stride = 0;
+        }
+        self.nodes.extend_from_slice(element);
+        if self.stride == 0 {
+            self.offsets.push(self.nodes.len());
+        }
+    }
+
+    /// Every node of every element, element after element.
+    pub fn nodes(&self) -> &[usize] {
+        &self.nodes
+    }
+
+    /// Mutable access to the node indices (to renumber them).
+    pub fn nodes_mut(&mut self) -> &mut [usize] {
+        &mut self.nodes
+    }
+
+    /// The elements in order.
+    pub fn iter(&self) -> CellIter<'_> {
+        CellIter {
+            cells: self,
+            next: 0,
+        }
+    }
+}
+
+/// Iterator over the elements of a [`Cells`].
+pub struct CellIter<'a> {
+    cells: &'a Cells,
+    next: usize,
+}
+
+impl<'a> Iterator for CellIter<'a> {
+    type Item = &'a [usize];
+    #[inline]
+    fn next(&mut self) -> Option<&'a [usize]> {
+        if self.next < self.cells.len() {
+            self.next += 1;
+            Some(self.cells.get(self.next - 1))
+        } else {
+            None
+        }
+    }
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let n = self.cells.len() - self.next;
+        (n, Some(n))
+    }
+}
+
+impl ExactSizeIterator for CellIter<'_> {}
+
+impl<'a> IntoIterator for &'a Cells {
+    type Item = &'a [usize];
+    type IntoIter = CellIter<'a>;
+    fn into_iter(self) -> CellIter<'a> {
+        self.iter()
+    }
+}
+
+impl FromIterator<Vec<usize>> for Cells {
+    fn from_iter<I: IntoIterator<Item = Vec<usize>>>(it: I) -> Cells {
+        let mut c = Cells::new();
+        for e in it {
+            c.push(&e);
+        }
+        c
+    }
+}
 
 /// A boundary (or point) physical group: its name and its elements.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Group {
     /// Physical name from `$PhysicalNames`, or the physical tag as a string when unnamed.
     pub name: String,
-    /// Dimension of the group's elements: 0 (points), 1 (lines), 2 (triangles in 3D).
+    /// Dimension of the group's elements: 0 (points), 1 (lines), 2 (triangles
+    /// and quadrilaterals, in 3D).
     pub dim: usize,
-    /// Connectivity, `dim + 1` node indices (0-based into `Mesh::coords`) per element.
-    pub conn: Vec<usize>,
+    /// Its elements, node indices 0-based into `Mesh::coords`.
+    pub conn: Cells,
 }
 
 impl Group {
-    pub fn nodes_per_element(&self) -> usize {
-        self.dim + 1
-    }
     pub fn len(&self) -> usize {
-        self.conn.len() / self.nodes_per_element()
+        self.conn.len()
     }
     pub fn is_empty(&self) -> bool {
         self.conn.is_empty()
     }
 }
 
-/// A serial P1 mesh. Equality compares the geometry, the node tags and the
+/// A serial mesh. Equality compares the geometry, the node tags and the
 /// groups, not the element tags (formats number elements differently).
 #[derive(Clone, Debug)]
 pub struct Mesh {
-    /// 2 (triangles) or 3 (tetrahedra).
+    /// 2 (triangles, quadrilaterals) or 3 (tetrahedra, hexahedra).
     pub dim: usize,
     /// Node coordinates, `dim` values per node.
     pub coords: Vec<f64>,
     /// The node's tag in the input file (1-based numbering for generated meshes).
     pub node_tags: Vec<u64>,
-    /// Cells, `dim + 1` node indices per cell.
-    pub cells: Vec<usize>,
+    /// Cells: `dim + 1` (simplex) or `2^dim` (Q1) node indices per cell.
+    pub cells: Cells,
     /// The cell's element tag in the input file (1-based numbering for generated meshes).
     pub cell_tags: Vec<u64>,
     /// Physical groups of dimension < `dim`, and those of dimension `dim`
@@ -94,10 +364,21 @@ impl Mesh {
         self.coords.len() / self.dim
     }
     pub fn num_cells(&self) -> usize {
-        self.cells.len() / (self.dim + 1)
+        self.cells.len()
     }
     pub fn group(&self, name: &str) -> Option<&Group> {
         self.groups.iter().find(|g| g.name == name)
+    }
+
+    /// The kind of cell `c`.
+    pub fn cell_kind(&self, c: usize) -> CellKind {
+        CellKind::of(self.dim, self.cells.get(c).len()).expect("a cell of a known kind")
+    }
+
+    /// "triangles", "quadrilaterals", or "triangles and quadrilaterals";
+    /// "tetrahedra, pyramids and hexahedra" (kinds by node count).
+    pub fn cell_kinds_label(&self) -> String {
+        kinds_label(self.dim, &self.cells)
     }
 
     /// Drops the nodes that no cell uses (Gmsh keeps geometry points) and
@@ -106,7 +387,7 @@ impl Mesh {
     pub fn drop_unused_nodes(&mut self) {
         let n = self.num_nodes();
         let mut used = vec![false; n];
-        for &v in &self.cells {
+        for &v in self.cells.nodes() {
             used[v] = true;
         }
         if used.iter().all(|&u| u) {
@@ -129,15 +410,17 @@ impl Mesh {
         }
         self.coords = coords;
         self.node_tags = tags;
-        for v in &mut self.cells {
+        for v in self.cells.nodes_mut() {
             *v = new_index[*v];
         }
         for g in &mut self.groups {
-            let k = g.nodes_per_element();
-            let mut conn = Vec::with_capacity(g.conn.len());
-            for e in g.conn.chunks(k) {
+            let mut conn = Cells::new();
+            let mut e2 = Vec::new();
+            for e in &g.conn {
                 if e.iter().all(|&v| used[v]) {
-                    conn.extend(e.iter().map(|&v| new_index[v]));
+                    e2.clear();
+                    e2.extend(e.iter().map(|&v| new_index[v]));
+                    conn.push(&e2);
                 }
             }
             g.conn = conn;
@@ -145,21 +428,234 @@ impl Mesh {
     }
 
     /// Cell volume (area in 2D) of cell `c`, signed: positive when the cell is
-    /// positively oriented.
+    /// positively oriented. Q1 cells: the integral of the Jacobian determinant
+    /// by the element's Gauss rule (exact).
     pub fn signed_measure(&self, c: usize) -> f64 {
         let d = self.dim;
-        let v = &self.cells[c * (d + 1)..(c + 1) * (d + 1)];
+        let v = self.cells.get(c);
         let x = |i: usize, k: usize| self.coords[v[i] * d + k];
-        if d == 2 {
-            0.5 * ((x(1, 0) - x(0, 0)) * (x(2, 1) - x(0, 1))
-                - (x(2, 0) - x(0, 0)) * (x(1, 1) - x(0, 1)))
-        } else {
-            let a = [x(1, 0) - x(0, 0), x(1, 1) - x(0, 1), x(1, 2) - x(0, 2)];
-            let b = [x(2, 0) - x(0, 0), x(2, 1) - x(0, 1), x(2, 2) - x(0, 2)];
-            let c3 = [x(3, 0) - x(0, 0), x(3, 1) - x(0, 1), x(3, 2) - x(0, 2)];
-            (a[0] * (b[1] * c3[2] - b[2] * c3[1]) - a[1] * (b[0] * c3[2] - b[2] * c3[0])
-                + a[2] * (b[0] * c3[1] - b[1] * c3[0]))
-                / 6.0
+        match v.len() {
+            3 if d == 2 => {
+                0.5 * ((x(1, 0) - x(0, 0)) * (x(2, 1) - x(0, 1))
+                    - (x(2, 0) - x(0, 0)) * (x(1, 1) - x(0, 1)))
+            }
+            4 if d == 3 => {
+                let a = [x(1, 0) - x(0, 0), x(1, 1) - x(0, 1), x(1, 2) - x(0, 2)];
+                let b = [x(2, 0) - x(0, 0), x(2, 1) - x(0, 1), x(2, 2) - x(0, 2)];
+                let c3 = [x(3, 0) - x(0, 0), x(3, 1) - x(0, 1), x(3, 2) - x(0, 2)];
+                (a[0] * (b[1] * c3[2] - b[2] * c3[1]) - a[1] * (b[0] * c3[2] - b[2] * c3[0])
+                    + a[2] * (b[0] * c3[1] - b[1] * c3[0]))
+                    / 6.0
+            }
+            _ => {
+                let pts: Vec<f64> = v
+                    .iter()
+                    .flat_map(|&n| self.coords[n * d..(n + 1) * d].iter().copied())
+                    .collect();
+                crate::fem::element::jacobians(d, &pts)
+                    .iter()
+                    .map(|(w, j)| w * j)
+                    .sum()
+            }
         }
     }
+
+    /// The smallest and the largest Jacobian determinant of cell `c` over
+    /// its Gauss points (a simplex: its constant Jacobian, `d!` times its
+    /// signed measure). A cell is valid when both have the same sign; a
+    /// sign change inside a Q1 cell means it is folded (non-convex, or its
+    /// nodes listed in the wrong order).
+    pub fn jacobian_range(&self, c: usize) -> (f64, f64) {
+        let d = self.dim;
+        let v = self.cells.get(c);
+        if v.len() == d + 1 {
+            let j = self.signed_measure(c) * if d == 2 { 2.0 } else { 6.0 };
+            return (j, j);
+        }
+        let pts: Vec<f64> = v
+            .iter()
+            .flat_map(|&n| self.coords[n * d..(n + 1) * d].iter().copied())
+            .collect();
+        crate::fem::element::jacobians(d, &pts)
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(_, j)| {
+                (lo.min(j), hi.max(j))
+            })
+    }
+}
+
+/// The kinds of cells in `cells` (dimension `dim`), as words for a summary.
+pub fn kinds_label(dim: usize, cells: &Cells) -> String {
+    let mut kinds: Vec<CellKind> = Vec::new();
+    if let Some(k) = cells.stride() {
+        kinds.extend(CellKind::of(dim, k));
+    } else {
+        for c in cells {
+            if let Some(k) = CellKind::of(dim, c.len()) {
+                if !kinds.contains(&k) {
+                    kinds.push(k);
+                }
+            }
+        }
+        kinds.sort_by_key(|k| k.nodes());
+    }
+    let names: Vec<&str> = kinds.iter().map(|k| k.plural()).collect();
+    match names.len() {
+        0 => if dim == 2 { "triangles" } else { "tetrahedra" }.to_string(),
+        1 => names[0].to_string(),
+        n => format!("{} and {}", names[..n - 1].join(", "), names[n - 1]),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cells_uniform_then_mixed() {
+        let mut c = Cells::new();
+        assert!(c.is_empty() && c.stride().is_none());
+        c.push(&[0, 1, 2]);
+        c.push(&[2, 1, 3]);
+        assert_eq!(c.stride(), Some(3));
+        assert_eq!(c.len(), 2);
+        c.push(&[3, 4, 5, 6]);
+        assert_eq!(c.stride(), None);
+        assert_eq!(c.len(), 3);
+        assert_eq!(c.get(1), &[2, 1, 3]);
+        assert_eq!(c.get(2), &[3, 4, 5, 6]);
+        c.push(&[7, 8, 9]);
+        assert_eq!(c.max_nodes(), 4);
+        let all: Vec<&[usize]> = c.iter().collect();
+        assert_eq!(all.len(), 4);
+        assert_eq!(all[3], &[7, 8, 9]);
+        let (n, s, o) = c.parts();
+        assert_eq!(Cells::from_parts(n.to_vec(), s, o.to_vec()), c);
+        // Equality is on the elements, not the storage.
+        let a = Cells::uniform(vec![0, 1, 2, 3, 4, 5], 3);
+        let b: Cells = vec![vec![0, 1, 2], vec![3, 4, 5]].into_iter().collect();
+        assert_eq!(a, b);
+        assert_ne!(a, Cells::uniform(vec![0, 1, 2, 3, 4, 5], 2));
+    }
+
+    #[test]
+    fn kinds_and_labels() {
+        assert_eq!(CellKind::of(2, 4), Some(CellKind::Quadrilateral));
+        assert_eq!(CellKind::of(3, 4), Some(CellKind::Tetrahedron));
+        assert_eq!(CellKind::of(3, 6), Some(CellKind::Prism));
+        assert_eq!(CellKind::of(2, 6), None);
+        let all: Cells = [4, 5, 6, 8].iter().map(|&k| (0..k).collect()).collect();
+        assert_eq!(
+            kinds_label(3, &all),
+            "tetrahedra, pyramids, prisms and hexahedra"
+        );
+        let mixed: Cells = vec![vec![0, 1, 2, 3], vec![0, 1, 2]].into_iter().collect();
+        assert_eq!(kinds_label(2, &mixed), "triangles and quadrilaterals");
+        assert_eq!(kinds_label(3, &Cells::uniform(vec![0; 8], 8)), "hexahedra");
+    }
+
+    #[test]
+    fn q1_measures_and_jacobians() {
+        // A trapezoid (area 1.5) and a unit cube, then the trapezoid's nodes
+        // listed clockwise (negative) and in a crossed order (folded).
+        let mut m = Mesh {
+            dim: 2,
+            coords: vec![0.0, 0.0, 2.0, 0.0, 1.0, 1.0, 0.0, 1.0],
+            node_tags: vec![1, 2, 3, 4],
+            cells: Cells::uniform(vec![0, 1, 2, 3], 4),
+            cell_tags: vec![1],
+            groups: vec![],
+        };
+        assert!((m.signed_measure(0) - 1.5).abs() < 1e-14);
+        let (lo, hi) = m.jacobian_range(0);
+        assert!(lo > 0.0 && hi > lo);
+        m.cells = Cells::uniform(vec![0, 3, 2, 1], 4);
+        assert!((m.signed_measure(0) + 1.5).abs() < 1e-14);
+        m.cells = Cells::uniform(vec![0, 1, 3, 2], 4);
+        let (lo, hi) = m.jacobian_range(0);
+        assert!(lo < 0.0 && hi > 0.0, "{lo} {hi}");
+        let cube = Mesh {
+            dim: 3,
+            coords: vec![
+                0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 1., 0., 0., 0., 1., 1., 0., 1., 1., 1., 1.,
+                0., 1., 1.,
+            ],
+            node_tags: (1..=8).collect(),
+            cells: Cells::uniform((0..8).collect(), 8),
+            cell_tags: vec![1],
+            groups: vec![],
+        };
+        assert!((cube.signed_measure(0) - 1.0).abs() < 1e-14);
+        let (lo, hi) = cube.jacobian_range(0);
+        assert!((lo - 0.125).abs() < 1e-15 && (hi - 0.125).abs() < 1e-15);
+    }
+}
+
+/// Reads or generates the mesh `-mesh` or `-mesh_generate` names (rank 0),
+/// and refuses a mesh with inverted, folded or degenerate cells, naming the
+/// first.
+pub fn load(source: &MeshSource) -> Result<Mesh, Error> {
+    let mesh = match source {
+        MeshSource::File(path) => gmsh::read_gmsh(std::path::Path::new(path))?,
+        MeshSource::Generate { name, h, q1 } => match (name.as_str(), q1) {
+            ("hertz2d", false) => hertz2d::generate(*h)?,
+            ("hertz2d", true) => hertz2d::generate_quad(*h)?,
+            ("block3d", false) => block3d::generate(*h)?,
+            ("block3d", true) => block3d::generate_hex(*h)?,
+            (other, _) => return bad(format!("option -mesh_generate: unknown mesh '{other}'")),
+        },
+    };
+    // Cells of both orientations: the minority ones are inverted (a broken
+    // mesh, e.g. a node moved across an edge); name the first of them. The
+    // orientation is the sign of the Jacobian determinant, constant on a
+    // simplex, taken at every Gauss point of a Q1 cell: a sign change
+    // inside one means it is folded.
+    let ranges: Vec<(f64, f64)> = (0..mesh.num_cells())
+        .map(|c| mesh.jacobian_range(c))
+        .collect();
+    let positive = ranges.iter().filter(|r| r.0 > 0.0).count();
+    let negative_is_minority = 2 * positive >= mesh.num_cells();
+    let nodes_of = |c: usize| -> String {
+        let tags: Vec<String> = mesh
+            .cells
+            .get(c)
+            .iter()
+            .map(|&v| mesh.node_tags[v].to_string())
+            .collect();
+        tags.join(" ")
+    };
+    for (c, &(lo, hi)) in ranges.iter().enumerate() {
+        let finite = lo.is_finite() && hi.is_finite();
+        let kind = mesh.cell_kind(c);
+        if finite && lo < 0.0 && hi > 0.0 {
+            return bad(format!(
+                "mesh: element {} (nodes {}) is folded: its Jacobian determinant changes sign inside it (from {lo:.3e} to {hi:.3e} at its Gauss points; a {} with its nodes out of order, or not convex)",
+                mesh.cell_tag(c),
+                nodes_of(c),
+                kind.name()
+            ));
+        }
+        let inverted = finite && (lo > 0.0 || hi < 0.0) && ((hi < 0.0) == negative_is_minority);
+        if inverted && positive != 0 && positive != mesh.num_cells() {
+            return bad(format!(
+                "mesh: element {} (nodes {}) is inverted: its orientation is opposite to that of the other {} cells",
+                mesh.cell_tag(c),
+                nodes_of(c),
+                if negative_is_minority { positive } else { mesh.num_cells() - positive }
+            ));
+        }
+        if !finite || lo == 0.0 || hi == 0.0 {
+            return bad(format!(
+                "mesh: element {} (nodes {}) is degenerate: zero {}",
+                mesh.cell_tag(c),
+                nodes_of(c),
+                match (mesh.dim, lo == hi) {
+                    (2, true) => "area",
+                    (3, true) => "volume",
+                    _ => "Jacobian determinant at a Gauss point",
+                }
+            ));
+        }
+    }
+    Ok(mesh)
 }

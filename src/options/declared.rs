@@ -234,6 +234,7 @@ macro_rules! opt {
 opt!(MESH: Given = "-mesh" "FILE", Given("none"), "Gmsh mesh (.msh 2.2 or 4.1, ASCII or binary); boundary conditions name its physical groups");
 opt!(MESH_GENERATE: Choice = "-mesh_generate" "NAME", Choice { default: "none", values: &["hertz2d", "block3d"] }, "built-in mesh, wins over -mesh: hertz2d (quarter cylinder, section 7.1) or block3d (the block of section 7.2)");
 opt!(MESH_H: f64 = "-mesh_h" "H", 0.5, "element size of -mesh_generate");
+opt!(MESH_ELEMENT: Given = "-mesh_element" "tri|quad|tet|hex", Given("tri (hertz2d), tet (block3d)"), "cells of -mesh_generate: P1 triangles or Q1 quadrilaterals (hertz2d), P1 tetrahedra or Q1 hexahedra (block3d)");
 // Material
 opt!(YOUNG: Given = "-E" "VALUE", Given("required"), "Young's modulus");
 opt!(NU: Given = "-nu" "VALUE", Given("required"), "Poisson's ratio, in (-1, 0.5)");
@@ -294,6 +295,7 @@ pub const ALL: &[&dyn Declared] = &[
     &MESH,
     &MESH_GENERATE,
     &MESH_H,
+    &MESH_ELEMENT,
     &YOUNG,
     &NU,
     &PLANE_STRESS,

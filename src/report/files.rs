@@ -187,8 +187,9 @@ fn plot_contact(path: &str, m: &Results) -> Result<(), Error> {
 /// The fields of one rank's part of the mesh, for the ParaView files.
 struct PieceData {
     /// The cells this rank writes (those whose smallest global node it
-    /// owns), with their fields.
+    /// owns), where each ends in `cells`, and their fields.
     cells: Vec<usize>,
+    offsets: Vec<usize>,
     stress: Vec<f64>,
     von_mises: Vec<f64>,
     /// Point fields at the local nodes.
@@ -207,8 +208,9 @@ fn piece_data(s: &Settings, local: &LocalMesh, u_local: &[f64], rows: &[ContactR
     // Cells this rank writes.
     let mine: Vec<usize> = (0..local.num_cells())
         .filter(|&c| {
-            let cell = &local.cells[c * k..(c + 1) * k];
-            let gmin = cell
+            let gmin = local
+                .cells
+                .get(c)
                 .iter()
                 .map(|&v| local.node_global[v])
                 .min()
@@ -217,17 +219,21 @@ fn piece_data(s: &Settings, local: &LocalMesh, u_local: &[f64], rows: &[ContactR
         })
         .collect();
     let mut cells = Vec::with_capacity(mine.len() * k);
+    let mut offsets = Vec::with_capacity(mine.len());
     let mut stress = Vec::with_capacity(mine.len() * 9);
     let mut von_mises = Vec::with_capacity(mine.len());
-    let mut xs = vec![0.0; k * d];
-    let mut us = vec![0.0; k * d];
+    let mut xs = Vec::with_capacity(8 * d);
+    let mut us = Vec::with_capacity(8 * d);
     for &c in &mine {
-        let cell = &local.cells[c * k..(c + 1) * k];
-        for (a, &v) in cell.iter().enumerate() {
-            xs[a * d..(a + 1) * d].copy_from_slice(local.x(v));
-            us[a * d..(a + 1) * d].copy_from_slice(&u_local[v * d..(v + 1) * d]);
+        let cell = local.cells.get(c);
+        xs.clear();
+        us.clear();
+        for &v in cell {
+            xs.extend_from_slice(local.x(v));
+            us.extend_from_slice(&u_local[v * d..(v + 1) * d]);
         }
         cells.extend_from_slice(cell);
+        offsets.push(cells.len());
         let (sig, vm) = crate::fem::stress::cell_stress(d, &xs, &us, s.young, s.nu, s.plane_stress);
         stress.extend_from_slice(&sig);
         von_mises.push(vm);
@@ -238,6 +244,7 @@ fn piece_data(s: &Settings, local: &LocalMesh, u_local: &[f64], rows: &[ContactR
     let npts = local.num_local_nodes();
     let mut out = PieceData {
         cells,
+        offsets,
         stress,
         von_mises,
         disp: vec![0.0; npts * 3],
@@ -290,6 +297,7 @@ pub fn write_vtk<C: Communicator>(
         dim: local.dim,
         coords: &local.coords,
         cells: &data.cells,
+        offsets: &data.offsets,
         point_data: point_fields(&data, &local.node_tag),
         cell_data: cell_fields(&data, &ranks),
     };
@@ -368,6 +376,16 @@ fn write_gathered<C: Communicator>(
     let gap = gather(world, &data.gap[..own]);
     let status = gather(world, &data.status[..own]);
     let cells = gather(world, &cells);
+    let sizes: Vec<u64> = data
+        .offsets
+        .iter()
+        .scan(0, |prev, &end| {
+            let size = end - *prev;
+            *prev = end;
+            Some(size as u64)
+        })
+        .collect();
+    let sizes = gather(world, &sizes);
     let stress = gather(world, &data.stress);
     let von_mises = gather(world, &data.von_mises);
     let ranks = gather(world, ranks);
@@ -376,6 +394,13 @@ fn write_gathered<C: Communicator>(
     }
     let all = PieceData {
         cells: cells.iter().map(|&v| v as usize).collect(),
+        offsets: sizes
+            .iter()
+            .scan(0, |end, &size| {
+                *end += size as usize;
+                Some(*end)
+            })
+            .collect(),
         stress,
         von_mises,
         disp,
@@ -388,6 +413,7 @@ fn write_gathered<C: Communicator>(
         dim: d,
         coords: &coords,
         cells: &all.cells,
+        offsets: &all.offsets,
         point_data: point_fields(&all, &tags),
         cell_data: cell_fields(&all, &ranks),
     };

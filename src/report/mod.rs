@@ -219,7 +219,14 @@ pub fn peak_memory_mb() -> f64 {
 pub fn mesh_label(source: &MeshSource) -> String {
     match source {
         MeshSource::File(p) => p.clone(),
-        MeshSource::Generate { name, h } => format!("generated {name}, h = {h}"),
+        MeshSource::Generate { name, h, q1 } => format!(
+            "generated {name}, h = {h}{}",
+            match (q1, name.as_str()) {
+                (false, _) => "",
+                (true, "hertz2d") => ", quadrilaterals",
+                (true, _) => ", hexahedra",
+            }
+        ),
     }
 }
 

@@ -62,14 +62,7 @@ fn header(m: &Results) {
     println!("  mesh            {}", super::mesh_label(&s.mesh));
     println!(
         "                  {} nodes, {} {}, {} contact candidates",
-        local.global_nodes,
-        local.global_cells,
-        if local.dim == 2 {
-            "triangles"
-        } else {
-            "tetrahedra"
-        },
-        m.candidates
+        local.global_nodes, local.global_cells, local.cell_kinds, m.candidates
     );
     println!(
         "  material        E = {}, nu = {}, {}",

@@ -1,7 +1,9 @@
 //! ParaView output: one `.vtu` piece per MPI rank plus a `.pvtu` index.
 //!
 //! Each rank writes its own part of the mesh with [`write_vtu`] (an XML
-//! `UnstructuredGrid` of triangles in 2D or linear tetrahedra in 3D), and
+//! `UnstructuredGrid` of linear cells: triangles and quadrilaterals in 2D,
+//! tetrahedra, hexahedra, prisms (VTK wedges, their points reordered) and
+//! pyramids in 3D, in any mix), and
 //! rank 0 writes the `.pvtu` index with [`write_pvtu`], which names the pieces
 //! by file names relative to the index's directory and declares the same
 //! fields. ParaView opens the `.pvtu` and shows the whole mesh.
@@ -44,8 +46,40 @@ use std::path::Path;
 
 /// VTK cell type of a linear triangle.
 const VTK_TRIANGLE: u8 = 5;
+/// VTK cell type of a bilinear quadrilateral.
+const VTK_QUAD: u8 = 9;
 /// VTK cell type of a linear tetrahedron.
 const VTK_TETRA: u8 = 10;
+/// VTK cell type of a trilinear hexahedron.
+const VTK_HEXAHEDRON: u8 = 12;
+/// VTK cell type of a linear wedge (prism).
+const VTK_WEDGE: u8 = 13;
+/// VTK cell type of a linear pyramid.
+const VTK_PYRAMID: u8 = 14;
+
+/// The VTK type of a cell of `n` points in dimension `dim`.
+fn vtk_cell_type(dim: usize, n: usize) -> Option<u8> {
+    match (dim, n) {
+        (2, 3) => Some(VTK_TRIANGLE),
+        (2, 4) => Some(VTK_QUAD),
+        (3, 4) => Some(VTK_TETRA),
+        (3, 8) => Some(VTK_HEXAHEDRON),
+        (3, 6) => Some(VTK_WEDGE),
+        (3, 5) => Some(VTK_PYRAMID),
+        _ => None,
+    }
+}
+
+/// VTK point `i` of a cell of type `ty` is point `vtk_order(ty)[i]` of the
+/// cell in Gmsh's order. Gmsh's order is VTK's except for the wedge: VTK
+/// wants its first triangle's normal (right-hand rule) to point away from
+/// the second triangle, Gmsh has it pointing toward it.
+fn vtk_order(ty: u8) -> &'static [usize] {
+    match ty {
+        VTK_WEDGE => &[0, 2, 1, 3, 5, 4],
+        _ => &[0, 1, 2, 3, 4, 5, 6, 7],
+    }
+}
 
 /// What a field holds per entry, as declared in the `.pvtu` index.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -124,12 +158,15 @@ impl<'a> Field<'a> {
 /// One rank's part of the mesh with its fields.
 #[derive(Clone, Debug)]
 pub struct Piece<'a> {
-    /// 2 (triangles) or 3 (tetrahedra).
+    /// 2 (triangles, quadrilaterals) or 3 (tetrahedra, hexahedra).
     pub dim: usize,
     /// `dim` values per point (2D points are padded with z = 0 in the file).
     pub coords: &'a [f64],
-    /// `dim + 1` point indices (into this piece's points) per cell.
+    /// Point indices (into this piece's points) of the cells, one after the other.
     pub cells: &'a [usize],
+    /// Where each cell ends in `cells` (VTK's `offsets`); empty when every
+    /// cell has `dim + 1` points (simplices).
+    pub offsets: &'a [usize],
     /// One entry per point each.
     pub point_data: Vec<Field<'a>>,
     /// One entry per cell each.
@@ -148,6 +185,7 @@ impl<'a> Piece<'a> {
     /// Number of cells (0 if `dim` is not 2 or 3).
     pub fn num_cells(&self) -> usize {
         match self.dim {
+            2 | 3 if !self.offsets.is_empty() => self.offsets.len(),
             2 | 3 => self.cells.len() / (self.dim + 1),
             _ => 0,
         }
@@ -213,9 +251,37 @@ pub fn vtu_bytes(piece: &Piece) -> io::Result<Vec<u8>> {
         )));
     }
     let nv = dim + 1;
-    if !piece.cells.len().is_multiple_of(nv) {
+    let offsets: Vec<i64> = if piece.offsets.is_empty() {
+        if !piece.cells.len().is_multiple_of(nv) {
+            return Err(invalid_input(format!(
+                "{} cell point indices is not a multiple of {nv}",
+                piece.cells.len()
+            )));
+        }
+        (1..=piece.cells.len() / nv)
+            .map(|c| (c * nv) as i64)
+            .collect()
+    } else {
+        piece.offsets.iter().map(|&o| o as i64).collect()
+    };
+    let mut types = Vec::with_capacity(offsets.len());
+    let mut begin = 0i64;
+    for (c, &end) in offsets.iter().enumerate() {
+        let ty = usize::try_from(end - begin)
+            .ok()
+            .and_then(|n| vtk_cell_type(dim, n))
+            .ok_or_else(|| {
+                invalid_input(format!(
+                    "cell {c} has {} points: not a linear {dim}D cell",
+                    end - begin
+                ))
+            })?;
+        types.push(ty);
+        begin = end;
+    }
+    if begin != piece.cells.len() as i64 {
         return Err(invalid_input(format!(
-            "{} cell point indices is not a multiple of {nv}",
+            "the offsets end at {begin}, the cells hold {} point indices",
             piece.cells.len()
         )));
     }
@@ -257,9 +323,13 @@ pub fn vtu_bytes(piece: &Piece) -> io::Result<Vec<u8>> {
     data_array(&mut x, "Points", "Float64", 3, &f64_bytes(&points));
     x.push_str("      </Points>\n");
 
-    let connectivity: Vec<i64> = piece.cells.iter().map(|&i| i as i64).collect();
-    let offsets: Vec<i64> = (1..=nc).map(|c| (c * nv) as i64).collect();
-    let cell_type = if dim == 2 { VTK_TRIANGLE } else { VTK_TETRA };
+    let mut connectivity: Vec<i64> = Vec::with_capacity(piece.cells.len());
+    let mut begin = 0usize;
+    for (&ty, &end) in types.iter().zip(&offsets) {
+        let cell = &piece.cells[begin..end as usize];
+        connectivity.extend(vtk_order(ty)[..cell.len()].iter().map(|&a| cell[a] as i64));
+        begin = end as usize;
+    }
     x.push_str("      <Cells>\n");
     data_array(
         &mut x,
@@ -269,7 +339,7 @@ pub fn vtu_bytes(piece: &Piece) -> io::Result<Vec<u8>> {
         &i64_bytes(&connectivity),
     );
     data_array(&mut x, "offsets", "Int64", 1, &i64_bytes(&offsets));
-    data_array(&mut x, "types", "UInt8", 1, &vec![cell_type; nc]);
+    data_array(&mut x, "types", "UInt8", 1, &types);
     x.push_str("      </Cells>\n");
     x.push_str("    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
     Ok(x.into_bytes())
@@ -625,6 +695,7 @@ print(json.dumps({
         dim: usize,
         coords: Vec<f64>,
         cells: Vec<usize>,
+        offsets: Vec<usize>,
         p_scalar: Vec<f64>,
         p_vector: Vec<f64>,
         p_tensor: Vec<f64>,
@@ -641,6 +712,7 @@ print(json.dumps({
                 dim: self.dim,
                 coords: &self.coords,
                 cells: &self.cells,
+                offsets: &self.offsets,
                 point_data: vec![
                     Field::Scalar("gap", &self.p_scalar),
                     Field::Vector("displacement", &self.p_vector),
@@ -690,6 +762,7 @@ print(json.dumps({
             dim: 2,
             coords: vec![dx, 0.0, dx + 1.0, 0.0, dx + 1.0, 1.0, dx, 1.0],
             cells: vec![0, 1, 2, 0, 2, 3],
+            offsets: vec![],
             p_scalar: vec![0.5, -1.25, 1e-300, 3.0e12],
             p_vector: vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0],
             p_tensor: (0..36).map(|i| i as f64 * 0.5 + dx).collect(),
@@ -706,6 +779,7 @@ print(json.dumps({
             dim: 3,
             coords: vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
             cells: vec![0, 1, 2, 3],
+            offsets: vec![],
             p_scalar: vec![1.0, 2.0, 3.0, 4.0],
             p_vector: (0..12).map(|i| i as f64 - 5.5).collect(),
             p_tensor: (0..36).map(|i| (i as f64).sqrt()).collect(),
@@ -788,6 +862,132 @@ print(json.dumps({
         assert_eq!(as_f64s(&cd["rank"][2]), ints);
     }
 
+    const VTK_SIZES: &str = r#"
+import json, sys
+import vtk
+r = vtk.vtkXMLUnstructuredGridReader()
+r.SetFileName(sys.argv[1])
+r.Update()
+g = r.GetOutput()
+f = vtk.vtkCellSizeFilter()
+f.SetInputData(g)
+f.Update()
+cd = f.GetOutput().GetCellData()
+key = "Volume" if g.GetCell(0).GetCellDimension() == 3 else "Area"
+print(json.dumps({
+    "types": [g.GetCellType(c) for c in range(g.GetNumberOfCells())],
+    "sizes": [cd.GetArray(key).GetValue(c) for c in range(g.GetNumberOfCells())],
+}))
+"#;
+
+    /// A unit square as a quadrilateral and two triangles (2D); a unit cube
+    /// as a hexahedron, with a prism, a pyramid and a tetrahedron beside it (3D).
+    fn mixed(dim: usize) -> Data {
+        let (coords, cells, offsets) = if dim == 2 {
+            (
+                vec![0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0, 2.0, 0.0, 2.0, 1.0],
+                vec![0, 1, 2, 3, 1, 4, 5, 1, 5, 2],
+                vec![4, 7, 10],
+            )
+        } else {
+            let mut x = Vec::new();
+            for z in [0.0, 1.0] {
+                for (px, py) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+                    x.extend_from_slice(&[px, py, z]);
+                }
+            }
+            // 8, 9: the prism's far edge (x = 2, y = 0); 10: the pyramid's
+            // apex (x = 0.5, y = 0.5, z = 2); 11: the tetrahedron's last node.
+            x.extend_from_slice(&[2.0, 0.0, 0.0, 2.0, 0.0, 1.0, 0.5, 0.5, 2.0, 1.5, 1.5, 2.0]);
+            (
+                x,
+                [
+                    &[0, 1, 2, 3, 4, 5, 6, 7][..],
+                    &[1, 8, 2, 5, 9, 6],
+                    &[4, 5, 6, 7, 10],
+                    &[5, 6, 10, 11],
+                ]
+                .concat(),
+                vec![8, 14, 19, 23],
+            )
+        };
+        let np = coords.len() / dim;
+        let nc = offsets.len();
+        Data {
+            dim,
+            coords,
+            cells,
+            offsets,
+            p_scalar: vec![1.0; np],
+            p_vector: vec![0.5; 3 * np],
+            p_tensor: vec![0.25; 9 * np],
+            p_int: vec![3; np],
+            c_scalar: (0..nc).map(|c| c as f64).collect(),
+            c_vector: vec![1.0; 3 * nc],
+            c_tensor: vec![2.0; 9 * nc],
+            c_int: vec![0; nc],
+        }
+    }
+
+    #[test]
+    fn mixed_cells_read_back_with_vtk_and_meshio() {
+        let dir = temp_dir("mixed");
+        for (dim, types, sizes) in [
+            (
+                2,
+                vec![VTK_QUAD, VTK_TRIANGLE, VTK_TRIANGLE],
+                vec![1.0, 0.5, 0.5],
+            ),
+            (
+                3,
+                vec![VTK_HEXAHEDRON, VTK_WEDGE, VTK_PYRAMID, VTK_TETRA],
+                vec![1.0, 0.5, 1.0 / 3.0, 1.0 / 6.0],
+            ),
+        ] {
+            let d = mixed(dim);
+            let path = dir.join(format!("mixed{dim}.vtu"));
+            write_vtu(&path, &d.piece()).expect("write the piece");
+            // VTK: the right types, and positive measures (the wedge's
+            // points reordered).
+            let got = run_python("vtk", "python3-vtk9", VTK_SIZES, &[&path]);
+            let t: Vec<u8> = got["types"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_u64().unwrap() as u8)
+                .collect();
+            assert_eq!(t, types);
+            let v = as_f64s(&got["sizes"]);
+            for (a, b) in v.iter().zip(&sizes) {
+                assert!((a - b).abs() < 1e-12, "{v:?} vs {sizes:?}");
+            }
+            // meshio: one block per kind, in file order.
+            let got = run_python("meshio", "python3-meshio", MESHIO_DUMP, &[&path]);
+            let blocks: Vec<&str> = got["cells"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|b| b[0].as_str().unwrap())
+                .collect();
+            let want: &[&str] = if dim == 2 {
+                &["quad", "triangle"]
+            } else {
+                &["hexahedron", "wedge", "pyramid", "tetra"]
+            };
+            assert_eq!(blocks, want);
+            // (The dump shows the first block's cell data: one cell.)
+            assert_eq!(as_f64s(&got["cell_data"]["von_mises"][2]), [d.c_scalar[0]]);
+        }
+        // Offsets that do not describe linear cells are refused.
+        let mut d = mixed(2);
+        d.offsets = vec![4, 6, 10];
+        let e = vtu_bytes(&d.piece()).expect_err("a 2-point cell");
+        assert!(e.to_string().contains("cell 1 has 2 points"), "{e}");
+        d.offsets = vec![4, 7];
+        assert!(vtu_bytes(&d.piece()).is_err());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
     #[test]
     fn base64_matches_rfc4648() {
         for (input, want) in [
@@ -851,6 +1051,7 @@ print(json.dumps({
             dim: 2,
             coords: vec![],
             cells: vec![],
+            offsets: vec![],
             p_scalar: vec![],
             p_vector: vec![],
             p_tensor: vec![],

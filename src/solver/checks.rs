@@ -329,7 +329,7 @@ pub fn forces<C: Communicator>(
     let mut owner = vec![usize::MAX; nown];
     for (g, bc) in settings.dirichlet.iter().enumerate() {
         let group = local.group(&bc.group).expect("checked at assembly");
-        for &v in group.conn.iter().filter(|&&v| local.is_owned(v)) {
+        for &v in group.conn.nodes().iter().filter(|&&v| local.is_owned(v)) {
             for &(c, _) in &bc.comps {
                 if owner[v * d + c] == usize::MAX {
                     owner[v * d + c] = g;
@@ -338,7 +338,7 @@ pub fn forces<C: Communicator>(
         }
     }
     let wanted: Vec<bool> = owner.iter().map(|&g| g != usize::MAX).collect();
-    let mut r = fem::loads::stiffness_rows(local, settings, u_local, &wanted);
+    let mut r = fem::loads::stiffness_rows(local, settings, u_local, &wanted)?;
     let mut contact = vec![0.0; d];
     for i in 0..cs.len() {
         let w = cs.w[i];
@@ -404,7 +404,7 @@ pub fn setup_warnings<C: Communicator>(
         let Some(group) = local.group(&bc.group) else {
             continue;
         };
-        let nodes: std::collections::HashSet<usize> = group.conn.iter().copied().collect();
+        let nodes: std::collections::HashSet<usize> = group.conn.nodes().iter().copied().collect();
         counts[g] = cs
             .node
             .iter()
@@ -435,6 +435,7 @@ pub fn setup_warnings<C: Communicator>(
         };
         let mut nodes: Vec<usize> = group
             .conn
+            .nodes()
             .iter()
             .copied()
             .filter(|&v| local.is_owned(v))
@@ -469,17 +470,18 @@ pub struct Deformation {
 /// owns its smallest global node.
 pub fn deformation<C: Communicator>(world: &C, local: &LocalMesh, u_local: &[f64]) -> Deformation {
     let d = local.dim;
-    let k = d + 1;
-    let (mut xs, mut us) = (vec![0.0; k * d], vec![0.0; k * d]);
+    let (mut xs, mut us) = (Vec::with_capacity(8 * d), Vec::with_capacity(8 * d));
     let (mut max_strain, mut inverted) = (0.0f64, 0usize);
-    for cell in local.cells.chunks(k) {
+    for cell in &local.cells {
         let first = cell.iter().min_by_key(|&&v| local.node_global[v]);
         if !first.is_some_and(|&v| local.is_owned(v)) {
             continue;
         }
-        for (a, &v) in cell.iter().enumerate() {
-            xs[a * d..(a + 1) * d].copy_from_slice(local.x(v));
-            us[a * d..(a + 1) * d].copy_from_slice(&u_local[v * d..(v + 1) * d]);
+        xs.clear();
+        us.clear();
+        for &v in cell {
+            xs.extend_from_slice(local.x(v));
+            us.extend_from_slice(&u_local[v * d..(v + 1) * d]);
         }
         let (e, inv) = fem::deformation::cell_deformation(d, &xs, &us);
         max_strain = max_strain.max(e);

@@ -63,7 +63,6 @@ impl Bodies {
     /// until no label changes (as many rounds as the part crosses ranks).
     pub fn find<C: Communicator>(world: &C, mesh: &LocalMesh) -> Result<Bodies, Error> {
         let d = mesh.dim;
-        let k = d + 1;
         let nloc = mesh.num_local_nodes();
         let mut parent: Vec<usize> = (0..nloc).collect();
         fn root(p: &mut [usize], mut a: usize) -> usize {
@@ -73,7 +72,7 @@ impl Bodies {
             }
             a
         }
-        for cell in mesh.cells.chunks_exact(k) {
+        for cell in &mesh.cells {
             let mut r0 = root(&mut parent, cell[0]);
             for &v in &cell[1..] {
                 let rv = root(&mut parent, v);
