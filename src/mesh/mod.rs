@@ -507,6 +507,75 @@ pub fn kinds_label(dim: usize, cells: &Cells) -> String {
     }
 }
 
+/// Reads or generates the mesh `-mesh` or `-mesh_generate` names (rank 0),
+/// and refuses a mesh with inverted, folded or degenerate cells, naming the
+/// first.
+pub fn load(source: &MeshSource) -> Result<Mesh, Error> {
+    let mesh = match source {
+        MeshSource::File(path) => gmsh::read_gmsh(std::path::Path::new(path))?,
+        MeshSource::Generate { name, h, q1 } => match (name.as_str(), q1) {
+            ("hertz2d", false) => hertz2d::generate(*h)?,
+            ("hertz2d", true) => hertz2d::generate_quad(*h)?,
+            ("block3d", false) => block3d::generate(*h)?,
+            ("block3d", true) => block3d::generate_hex(*h)?,
+            (other, _) => return bad(format!("option -mesh_generate: unknown mesh '{other}'")),
+        },
+    };
+    // Cells of both orientations: the minority ones are inverted (a broken
+    // mesh, e.g. a node moved across an edge); name the first of them. The
+    // orientation is the sign of the Jacobian determinant, constant on a
+    // simplex, taken at every Gauss point of a Q1 cell: a sign change
+    // inside one means it is folded.
+    let ranges: Vec<(f64, f64)> = (0..mesh.num_cells())
+        .map(|c| mesh.jacobian_range(c))
+        .collect();
+    let positive = ranges.iter().filter(|r| r.0 > 0.0).count();
+    let negative_is_minority = 2 * positive >= mesh.num_cells();
+    let nodes_of = |c: usize| -> String {
+        let tags: Vec<String> = mesh
+            .cells
+            .get(c)
+            .iter()
+            .map(|&v| mesh.node_tags[v].to_string())
+            .collect();
+        tags.join(" ")
+    };
+    for (c, &(lo, hi)) in ranges.iter().enumerate() {
+        let finite = lo.is_finite() && hi.is_finite();
+        let kind = mesh.cell_kind(c);
+        if finite && lo < 0.0 && hi > 0.0 {
+            return bad(format!(
+                "mesh: element {} (nodes {}) is folded: its Jacobian determinant changes sign inside it (from {lo:.3e} to {hi:.3e} at its Gauss points; a {} with its nodes out of order, or not convex)",
+                mesh.cell_tag(c),
+                nodes_of(c),
+                kind.name()
+            ));
+        }
+        let inverted = finite && (lo > 0.0 || hi < 0.0) && ((hi < 0.0) == negative_is_minority);
+        if inverted && positive != 0 && positive != mesh.num_cells() {
+            return bad(format!(
+                "mesh: element {} (nodes {}) is inverted: its orientation is opposite to that of the other {} cells",
+                mesh.cell_tag(c),
+                nodes_of(c),
+                if negative_is_minority { positive } else { mesh.num_cells() - positive }
+            ));
+        }
+        if !finite || lo == 0.0 || hi == 0.0 {
+            return bad(format!(
+                "mesh: element {} (nodes {}) is degenerate: zero {}",
+                mesh.cell_tag(c),
+                nodes_of(c),
+                match (mesh.dim, lo == hi) {
+                    (2, true) => "area",
+                    (3, true) => "volume",
+                    _ => "Jacobian determinant at a Gauss point",
+                }
+            ));
+        }
+    }
+    Ok(mesh)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -589,73 +658,4 @@ mod tests {
         let (lo, hi) = cube.jacobian_range(0);
         assert!((lo - 0.125).abs() < 1e-15 && (hi - 0.125).abs() < 1e-15);
     }
-}
-
-/// Reads or generates the mesh `-mesh` or `-mesh_generate` names (rank 0),
-/// and refuses a mesh with inverted, folded or degenerate cells, naming the
-/// first.
-pub fn load(source: &MeshSource) -> Result<Mesh, Error> {
-    let mesh = match source {
-        MeshSource::File(path) => gmsh::read_gmsh(std::path::Path::new(path))?,
-        MeshSource::Generate { name, h, q1 } => match (name.as_str(), q1) {
-            ("hertz2d", false) => hertz2d::generate(*h)?,
-            ("hertz2d", true) => hertz2d::generate_quad(*h)?,
-            ("block3d", false) => block3d::generate(*h)?,
-            ("block3d", true) => block3d::generate_hex(*h)?,
-            (other, _) => return bad(format!("option -mesh_generate: unknown mesh '{other}'")),
-        },
-    };
-    // Cells of both orientations: the minority ones are inverted (a broken
-    // mesh, e.g. a node moved across an edge); name the first of them. The
-    // orientation is the sign of the Jacobian determinant, constant on a
-    // simplex, taken at every Gauss point of a Q1 cell: a sign change
-    // inside one means it is folded.
-    let ranges: Vec<(f64, f64)> = (0..mesh.num_cells())
-        .map(|c| mesh.jacobian_range(c))
-        .collect();
-    let positive = ranges.iter().filter(|r| r.0 > 0.0).count();
-    let negative_is_minority = 2 * positive >= mesh.num_cells();
-    let nodes_of = |c: usize| -> String {
-        let tags: Vec<String> = mesh
-            .cells
-            .get(c)
-            .iter()
-            .map(|&v| mesh.node_tags[v].to_string())
-            .collect();
-        tags.join(" ")
-    };
-    for (c, &(lo, hi)) in ranges.iter().enumerate() {
-        let finite = lo.is_finite() && hi.is_finite();
-        let kind = mesh.cell_kind(c);
-        if finite && lo < 0.0 && hi > 0.0 {
-            return bad(format!(
-                "mesh: element {} (nodes {}) is folded: its Jacobian determinant changes sign inside it (from {lo:.3e} to {hi:.3e} at its Gauss points; a {} with its nodes out of order, or not convex)",
-                mesh.cell_tag(c),
-                nodes_of(c),
-                kind.name()
-            ));
-        }
-        let inverted = finite && (lo > 0.0 || hi < 0.0) && ((hi < 0.0) == negative_is_minority);
-        if inverted && positive != 0 && positive != mesh.num_cells() {
-            return bad(format!(
-                "mesh: element {} (nodes {}) is inverted: its orientation is opposite to that of the other {} cells",
-                mesh.cell_tag(c),
-                nodes_of(c),
-                if negative_is_minority { positive } else { mesh.num_cells() - positive }
-            ));
-        }
-        if !finite || lo == 0.0 || hi == 0.0 {
-            return bad(format!(
-                "mesh: element {} (nodes {}) is degenerate: zero {}",
-                mesh.cell_tag(c),
-                nodes_of(c),
-                match (mesh.dim, lo == hi) {
-                    (2, true) => "area",
-                    (3, true) => "volume",
-                    _ => "Jacobian determinant at a Gauss point",
-                }
-            ));
-        }
-    }
-    Ok(mesh)
 }
