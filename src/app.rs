@@ -10,6 +10,7 @@ use crate::error::{bad, Error};
 use crate::mesh::{self, distribute, distribute::LocalMesh};
 use crate::options::{self, unused::Unused, Friction, Settings};
 use crate::petsc::{self, Events, Stages};
+use crate::progress;
 use crate::report::{self, files, ContactRow, Results, Times, Totals};
 use crate::solver::checks::{self, Deformation, Diagnostics, Forces};
 use crate::solver::outcome::{self, Solved};
@@ -79,8 +80,9 @@ struct Checked {
 impl<'w, C: Communicator> ContactProblem<'w, C> {
     fn new(world: &'w C) -> Result<Self, Error> {
         let start = Instant::now();
-        let settings = Settings::from_options()?;
         let root = world.rank() == 0;
+        progress::start(root);
+        let settings = Settings::from_options()?;
         if root {
             for note in &settings.notes {
                 eprintln!("{note}");
@@ -141,6 +143,9 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             },
             |mesh| {
                 let (t, _guard) = (Instant::now(), stages.partition.push()?);
+                progress::phase(false, || {
+                    format!("partitioning {} nodes over {size} ranks", mesh.num_nodes())
+                });
                 let graph = distribute::NodeGraph::new(mesh);
                 let part = distribute::partition_nodes(&graph, size)?;
                 let order = distribute::locality_order(&graph, &part, size);
@@ -211,6 +216,12 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             let modulus = penalty::p_wave_modulus(s.young, s.nu, d, s.plane_stress);
             penalty::trial(world, local, &cs, modulus)
         });
+        progress::phase(false, || {
+            format!(
+                "assembling and factorizing ({} unknowns)",
+                local.global_nodes * d
+            )
+        });
         let problem = Problem::setup(world, local, s, cs, terms, r0, &self.stages)?;
         if !friction {
             let load = problem.load.read(|f| f.to_vec())?;
@@ -241,6 +252,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let t = Instant::now();
         let _guard = self.stages.r_choice.push()?;
         let auto = self.settings.ubr.r.is_none();
+        progress::phase(false, || "choosing r".into());
         let monitor = self.settings.ubr.monitor;
         let choice = penalty::choose(self.world, problem, restraint, local, auto, monitor)?;
         self.times.r_choice = t.elapsed().as_secs_f64();
@@ -251,6 +263,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     fn solve(&mut self, local: &LocalMesh, problem: &mut Problem) -> Result<Solution, Error> {
         let _guard = self.stages.iterations.push()?;
         let t = Instant::now();
+        progress::phase(false, || "iterating".into());
         let (state, solved) =
             outcome::solve(self.world, local, &self.settings, problem, &self.events)?;
         self.times.iterations = t.elapsed().as_secs_f64();
@@ -266,6 +279,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         sol: &Solution,
     ) -> Result<Checked, Error> {
         let (world, s) = (self.world, &self.settings);
+        progress::phase(false, || "checking the answer".into());
         let bound = checks::friction_bound(s, &sol.state, &sol.solved.bound);
         let diag = checks::diagnostics(world, problem, &sol.state, &bound)?;
         let singular = checks::singular(problem, &diag, sol.solved.name, sol.solved.iterations);
@@ -298,6 +312,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     ) -> Result<(), Error> {
         let world = self.world;
         let _guard = self.stages.output.push()?;
+        progress::phase(false, || "writing the outputs".into());
         let s = &self.settings;
         let hwm = report::peak_memory_mb();
         let memory = [
@@ -307,6 +322,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         ];
         self.times.total = self.start.elapsed().as_secs_f64();
         let mut written = Ok(());
+        progress::finish();
         if self.root {
             let d = local.dim;
             let hertz = s.reference.as_ref().map(|r| {

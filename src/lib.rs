@@ -8,6 +8,7 @@ pub mod fem;
 pub mod mesh;
 pub mod options;
 pub mod petsc;
+pub mod progress;
 pub mod report;
 pub mod solver;
 

@@ -205,13 +205,14 @@ fn positive(name: &str, v: f64) -> Result<f64, Error> {
 fn mesh_source() -> Result<MeshSource, Error> {
     // -mesh_generate wins, so that `-options_file F -mesh_generate hertz2d`
     // reruns a scene of F on a generated mesh.
-    let name = MESH_GENERATE.get()?;
+    // (-mesh is read either way: overridden, it is not an unused option.)
+    let (name, file) = (MESH_GENERATE.get()?, MESH.word()?);
     let element = MESH_ELEMENT.word()?;
     if !MESH_GENERATE.default.values.contains(&name) {
         if element.is_some() {
             return bad("option -mesh_element applies to -mesh_generate only (a mesh file has its own cells)");
         }
-        return match MESH.word()? {
+        return match file {
             Some(f) => Ok(MeshSource::File(f)),
             None => bad("no mesh: give -mesh FILE or -mesh_generate hertz2d|block3d"),
         };

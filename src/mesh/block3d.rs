@@ -54,6 +54,11 @@ fn intervals(length: f64, h: f64) -> f64 {
     ((length / h) * (1.0 - 1e-10)).ceil().max(1.0)
 }
 
+/// How many nodes [`generate`] and [`generate_hex`] make at element size `h`.
+pub fn expected_nodes(h: f64) -> f64 {
+    LENGTH.iter().map(|&l| intervals(l, h) + 1.0).product()
+}
+
 /// The structured grid of `generate` and `generate_hex`: intervals per
 /// axis and node coordinates (x fastest, z slowest).
 struct Grid {

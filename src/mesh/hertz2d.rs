@@ -36,6 +36,12 @@ const MAX_NODES: f64 = 50.0e6;
 /// Ring spacing over element size: the height of an equilateral triangle.
 const RING_FACTOR: f64 = 0.866_025_403_784_438_6; // sqrt(3) / 2
 
+/// About how many nodes [`generate`] makes at element size `h` (interior
+/// density plus the boundary).
+pub fn expected_nodes(h: f64) -> f64 {
+    std::f64::consts::PI * R * R / (2.0 * 3f64.sqrt() * h * h) + 16.0 / h
+}
+
 /// Quarter-cylinder mesh of the paper's Hertz scene with target element size `h`.
 pub fn generate(h: f64) -> Result<Mesh, MeshError> {
     if !h.is_finite() || h <= 0.0 {
@@ -45,7 +51,7 @@ pub fn generate(h: f64) -> Result<Mesh, MeshError> {
     }
     // Node count estimate (interior density plus the boundary), checked
     // before any allocation; an underflowing `h * h` gives infinity.
-    let estimate = std::f64::consts::PI * R * R / (2.0 * 3f64.sqrt() * h * h) + 16.0 / h;
+    let estimate = expected_nodes(h);
     if estimate > MAX_NODES {
         return Err(MeshError(format!(
             "option -mesh_h: {h} is too small for -mesh_generate hertz2d \

@@ -23,6 +23,7 @@ pub mod hertz2d;
 
 use crate::error::{bad, Error};
 use crate::options::MeshSource;
+use crate::progress;
 use std::fmt;
 
 /// The element shapes a mesh can hold: cells of the top dimension and
@@ -507,19 +508,46 @@ pub fn kinds_label(dim: usize, cells: &Cells) -> String {
     }
 }
 
+/// A mesh this large (nodes to generate, or MB to read) takes seconds:
+/// its phase says so at once.
+const LARGE_MESH_NODES: f64 = 2e5;
+const LARGE_FILE_MB: f64 = 20.0;
+
+/// The built-in mesh `name` at element size `h` (Q1 cells with `q1`).
+fn generate(name: &str, h: f64, q1: bool) -> Result<Mesh, Error> {
+    Ok(match (name, q1) {
+        ("hertz2d", false) => hertz2d::generate(h)?,
+        ("hertz2d", true) => hertz2d::generate_quad(h)?,
+        ("block3d", false) => block3d::generate(h)?,
+        ("block3d", true) => block3d::generate_hex(h)?,
+        (other, _) => return bad(format!("option -mesh_generate: unknown mesh '{other}'")),
+    })
+}
+
 /// Reads or generates the mesh `-mesh` or `-mesh_generate` names (rank 0),
 /// and refuses a mesh with inverted, folded or degenerate cells, naming the
 /// first.
 pub fn load(source: &MeshSource) -> Result<Mesh, Error> {
     let mesh = match source {
-        MeshSource::File(path) => gmsh::read_gmsh(std::path::Path::new(path))?,
-        MeshSource::Generate { name, h, q1 } => match (name.as_str(), q1) {
-            ("hertz2d", false) => hertz2d::generate(*h)?,
-            ("hertz2d", true) => hertz2d::generate_quad(*h)?,
-            ("block3d", false) => block3d::generate(*h)?,
-            ("block3d", true) => block3d::generate_hex(*h)?,
-            (other, _) => return bad(format!("option -mesh_generate: unknown mesh '{other}'")),
-        },
+        MeshSource::File(path) => {
+            let mb = std::fs::metadata(path).map_or(0.0, |m| m.len() as f64 / 1e6);
+            progress::phase(mb > LARGE_FILE_MB, || {
+                format!("reading {path} ({mb:.0} MB)")
+            });
+            gmsh::read_gmsh(std::path::Path::new(path))?
+        }
+        MeshSource::Generate { name, h, q1 } => {
+            let nodes = match (name.as_str(), q1) {
+                ("hertz2d", false) => hertz2d::expected_nodes(*h),
+                // Quadrilaterals: about 1.5 times the triangles' nodes.
+                ("hertz2d", true) => 1.5 * hertz2d::expected_nodes(*h),
+                _ => block3d::expected_nodes(*h),
+            };
+            progress::phase(nodes > LARGE_MESH_NODES, || {
+                format!("generating {name} (h = {h}): about {nodes:.3e} nodes")
+            });
+            generate(name, *h, *q1)?
+        }
     };
     // Cells of both orientations: the minority ones are inverted (a broken
     // mesh, e.g. a node moved across an edge); name the first of them. The

@@ -79,11 +79,11 @@ pub struct Report {
     /// min lambda_n relative to max lambda_n (0 when nonnegative).
     pub min_lambda_n_rel: f64,
     pub max_penetration: f64,
-    /// max (u_n - g)^+ relative to max(|g|, |u_n|).
+    /// max (u_n - g)^+ relative to max(|g|, |u|).
     pub max_penetration_rel: f64,
     pub max_abs_gap: f64,
     pub complementarity: f64,
-    /// |complementarity| relative to (sum w |lambda_n|) max(|g|, |u_n|).
+    /// |complementarity| relative to (sum w |lambda_n|) max(|g|, |u|).
     pub complementarity_rel: f64,
     /// Friction checks, at the nodes in contact.
     pub max_friction_excess: f64,

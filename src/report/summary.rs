@@ -237,7 +237,7 @@ fn optimality(m: &Results) {
         d.equilibrium_rel
     );
     println!(
-        "                  min lambda_n {:.2e}, max (u_n - g)^+ {:.2e}, |complementarity| {:.2e} (relative to max lambda_n, max(|g|, |u_n|), contact force x max(|g|, |u_n|))",
+        "                  min lambda_n {:.2e}, max (u_n - g)^+ {:.2e}, |complementarity| {:.2e} (relative to max lambda_n, max(|g|, |u|), contact force x max(|g|, |u|))",
         d.min_lambda_rel(),
         d.penetration_rel(),
         d.complementarity_rel()

@@ -160,6 +160,12 @@ pub fn cf_fp<C: Communicator>(
             prev = Some((ln.clone(), lt.clone()));
             out.fp_error_estimate = estimate;
         }
+        crate::progress::tick(|| {
+            format!(
+                "CF-FP fixed-point iteration {m}: change of s {:.2e}, {} nodes in contact",
+                out.fp_change, run.contact
+            )
+        });
         if root && ctl.monitor {
             println!(
                 "  CF-FP {:3}: {} Tresca iterations (tol {:.0e}), ||s^(m+1) - s^m|| / ||s^(m+1)|| = {:.3e}{}, contact {} stick {} slip {}",

@@ -31,10 +31,11 @@ pub struct Diagnostics {
     /// Smallest and largest lambda_n over the candidates.
     pub min_lambda: f64,
     pub max_lambda: f64,
-    /// `max (u_n - g)` over the candidates, and `max |g|`, `max |u_n|`.
+    /// `max (u_n - g)` over the candidates, `max |g|`, and the largest
+    /// displacement component over the body.
     pub max_penetration: f64,
     pub max_abs_gap: f64,
-    pub max_abs_un: f64,
+    pub max_abs_u: f64,
     /// `sum w lambda_n (g - u_n)`, and `sum w |lambda_n|`.
     pub complementarity: f64,
     pub force_abs: f64,
@@ -68,9 +69,9 @@ impl Diagnostics {
             self.max_lambda.max(-self.min_lambda),
         )
     }
-    /// The length the normal checks are relative to: `max(|g|, |u_n|)`.
+    /// The length the normal checks are relative to: `max(|g|, |u|)`.
     pub fn length(&self) -> f64 {
-        self.max_abs_gap.max(self.max_abs_un)
+        self.max_abs_gap.max(self.max_abs_u)
     }
     /// `max (u_n - g)^+` relative to [`Self::length`].
     pub fn penetration_rel(&self) -> f64 {
@@ -216,7 +217,10 @@ pub fn diagnostics<C: Communicator>(
     let (eq2, f2) = equilibrium(p, st)?;
     let cs = &p.contact;
     let sf = &st.surface;
-    let mut lo = [f64::NEG_INFINITY; 5]; // -min lambda, max lambda, max pen., max |g|, max |u_n|
+    // -min lambda, max lambda, max penetration, max |g|, max |u|
+    let mut lo = [f64::NEG_INFINITY; 5];
+    lo[4] =
+        st.u.read(|u| u.iter().fold(0.0f64, |a, b| a.max(b.abs())))?;
     let mut compl = 0.0;
     let mut force = 0.0;
     for i in 0..cs.len() {
@@ -225,7 +229,6 @@ pub fn diagnostics<C: Communicator>(
         lo[1] = lo[1].max(l);
         lo[2] = lo[2].max(un - g);
         lo[3] = lo[3].max(g.abs());
-        lo[4] = lo[4].max(un.abs());
         compl += cs.w[i] * l * (g - un);
         force += cs.w[i] * l.abs();
     }
@@ -248,7 +251,7 @@ pub fn diagnostics<C: Communicator>(
         max_lambda: m[1],
         max_penetration: m[2],
         max_abs_gap: m[3].max(0.0),
-        max_abs_un: m[4].max(0.0),
+        max_abs_u: m[4].max(0.0),
         complementarity: compl,
         force_abs: force,
         max_friction_excess: excess,

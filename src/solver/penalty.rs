@@ -337,6 +337,7 @@ pub fn spectrum<C: Communicator>(
                     0
                 };
             }
+            crate::progress::tick(|| format!("r choice: Lanczos step {}, r = {r:.4e}", step + 1));
             if monitor && world.rank() == 0 {
                 println!(
                     "  r choice  Lanczos step {:2}: sigma in [{lo:.4e}, {hi:.4e}], r = {r:.4e} (trial {r0:.4e})",

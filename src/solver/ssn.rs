@@ -97,6 +97,12 @@ pub fn ssn_c<C: Communicator>(
                 count as usize, changed as usize
             );
         }
+        crate::progress::tick(|| {
+            format!(
+                "SSN-C iteration {k}: {} active, {} changed",
+                count as usize, changed as usize
+            )
+        });
         // (3) stop when the active set repeats
         if k >= 1 && changed == 0.0 {
             out.converged = true;

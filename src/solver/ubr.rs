@@ -536,6 +536,21 @@ pub fn ubr<C: Communicator>(
             } else {
                 println!("  {name} {:5}   {test}   {}{inner}", k, out.contact);
             }
+        } else {
+            crate::progress::tick(|| {
+                let test = if paper {
+                    format!(
+                        "rel. change (4.16) {:.2e} (target {:.0e})",
+                        out.criterion, ctl.rtol
+                    )
+                } else {
+                    format!("estimated error {est:.2e} (target {:.0e})", ctl.lambda_rtol)
+                };
+                format!(
+                    "{name} iteration {k}: {test}, {} nodes in contact",
+                    out.contact
+                )
+            });
         }
         k += 1;
         out.iterations = k;
