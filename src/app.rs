@@ -281,10 +281,10 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let (world, s) = (self.world, &self.settings);
         progress::phase(false, || "checking the answer".into());
         let bound = checks::friction_bound(s, &sol.state, &sol.solved.bound);
-        let diag = checks::diagnostics(world, problem, &sol.state, &bound)?;
-        let singular = checks::singular(problem, &diag, sol.solved.name, sol.solved.iterations);
         let u_local = checks::local_displacement(local, &sol.state.u)?;
         let forces = checks::forces(world, local, s, problem, &sol.state, &u_local)?;
+        let diag = checks::diagnostics(world, problem, &sol.state, &bound)?.with_forces(&forces);
+        let singular = checks::singular(problem, &diag, sol.solved.name, sol.solved.iterations);
         let rows = report::contact_rows(local, problem, &sol.state, &sol.solved.bound);
         let rows = report::gather_rows(world, &rows);
         let shape = checks::deformation(world, local, &u_local);

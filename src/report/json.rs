@@ -76,14 +76,16 @@ pub struct Report {
     pub equilibrium_residual_rel: f64,
     pub equilibrium_scale: f64,
     pub min_lambda_n: f64,
-    /// min lambda_n relative to max lambda_n (0 when nonnegative).
+    /// min lambda_n relative to max(max |lambda_n|, largest load or
+    /// reaction / contact area) (0 when nonnegative).
     pub min_lambda_n_rel: f64,
     pub max_penetration: f64,
-    /// max (u_n - g)^+ relative to max(|g|, |u|).
+    /// max (u_n - g)^+ relative to the largest displacement or initial penetration.
     pub max_penetration_rel: f64,
     pub max_abs_gap: f64,
     pub complementarity: f64,
-    /// |complementarity| relative to (sum w |lambda_n|) max(|g|, |u|).
+    /// |complementarity| relative to max(sum w |lambda_n|, largest load or
+    /// reaction) x the largest displacement or initial penetration.
     pub complementarity_rel: f64,
     /// Friction checks, at the nodes in contact.
     pub max_friction_excess: f64,

@@ -237,10 +237,13 @@ fn optimality(m: &Results) {
         d.equilibrium_rel
     );
     println!(
-        "                  min lambda_n {:.2e}, max (u_n - g)^+ {:.2e}, |complementarity| {:.2e} (relative to max lambda_n, max(|g|, |u|), contact force x max(|g|, |u|))",
+        "                  min lambda_n {:.2e} (relative to the pressure scale {:.3e}), max (u_n - g)^+ {:.2e} (relative to the largest displacement or initial penetration {:.3e}), |complementarity| {:.2e} (relative to the force scale {:.3e} x that length)",
         d.min_lambda_rel(),
+        d.pressure_scale(),
         d.penetration_rel(),
-        d.complementarity_rel()
+        d.length(),
+        d.complementarity_rel(),
+        d.force_scale()
     );
     if m.problem.tangential {
         println!(

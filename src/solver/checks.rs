@@ -36,9 +36,17 @@ pub struct Diagnostics {
     pub max_penetration: f64,
     pub max_abs_gap: f64,
     pub max_abs_u: f64,
-    /// `sum w lambda_n (g - u_n)`, and `sum w |lambda_n|`.
+    /// The largest initial penetration `max (-g)^+`.
+    pub max_initial_penetration: f64,
+    /// `sum w lambda_n (g - u_n)`, `sum w |lambda_n|`, and `sum w` (the
+    /// measure of the contact surface).
     pub complementarity: f64,
     pub force_abs: f64,
+    pub area: f64,
+    /// The largest of the applied load and the reactions (their Euclidean
+    /// norms; [`Diagnostics::with_forces`]): the force scale of the body
+    /// when nothing, or little, touches.
+    pub external: f64,
     /// Friction, at the nodes in contact: `max (|lambda_t| - s)`, and the
     /// largest s there.
     pub max_friction_excess: f64,
@@ -62,25 +70,45 @@ fn ratio(a: f64, b: f64) -> f64 {
 }
 
 impl Diagnostics {
-    /// `min lambda_n` relative to `max |lambda_n|` (0 when nonnegative).
-    pub fn min_lambda_rel(&self) -> f64 {
-        ratio(
-            self.min_lambda.min(0.0),
-            self.max_lambda.max(-self.min_lambda),
-        )
+    /// Sets the force scale from the loads and reactions.
+    pub fn with_forces(mut self, f: &Forces) -> Diagnostics {
+        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        self.external = f
+            .reactions
+            .iter()
+            .map(|(_, r)| norm(r))
+            .fold(norm(&f.load), f64::max);
+        self
     }
-    /// The length the normal checks are relative to: `max(|g|, |u|)`.
+    /// The contact force scale: `max(sum w |lambda_n|, external force)`.
+    pub fn force_scale(&self) -> f64 {
+        self.force_abs.max(self.external)
+    }
+    /// The pressure scale: `max(max |lambda_n|, external force / area)`.
+    pub fn pressure_scale(&self) -> f64 {
+        let spread = ratio(self.external, self.area);
+        self.max_lambda.max(-self.min_lambda).max(spread)
+    }
+    /// `min lambda_n` relative to [`Self::pressure_scale`] (0 when nonnegative).
+    pub fn min_lambda_rel(&self) -> f64 {
+        ratio(self.min_lambda.min(0.0), self.pressure_scale())
+    }
+    /// The length the normal checks are relative to: the largest
+    /// displacement or initial penetration.
     pub fn length(&self) -> f64 {
-        self.max_abs_gap.max(self.max_abs_u)
+        self.max_abs_u.max(self.max_initial_penetration)
     }
     /// `max (u_n - g)^+` relative to [`Self::length`].
     pub fn penetration_rel(&self) -> f64 {
         ratio(self.max_penetration.max(0.0), self.length())
     }
-    /// `|sum w lambda_n (g - u_n)|` relative to `sum w |lambda_n|` times
-    /// [`Self::length`] (the contact force times a length).
+    /// `|sum w lambda_n (g - u_n)|` relative to [`Self::force_scale`] times
+    /// [`Self::length`] (a force times a length).
     pub fn complementarity_rel(&self) -> f64 {
-        ratio(self.complementarity.abs(), self.force_abs * self.length())
+        ratio(
+            self.complementarity.abs(),
+            self.force_scale() * self.length(),
+        )
     }
     /// `max (|lambda_t| - s)^+` at the nodes in contact, relative to max s.
     pub fn friction_excess_rel(&self) -> f64 {
@@ -217,22 +245,24 @@ pub fn diagnostics<C: Communicator>(
     let (eq2, f2) = equilibrium(p, st)?;
     let cs = &p.contact;
     let sf = &st.surface;
-    // -min lambda, max lambda, max penetration, max |g|, max |u|
-    let mut lo = [f64::NEG_INFINITY; 5];
+    // -min lambda, max lambda, max penetration, max |g|, max |u|, max (-g)
+    let mut lo = [f64::NEG_INFINITY; 6];
     lo[4] =
         st.u.read(|u| u.iter().fold(0.0f64, |a, b| a.max(b.abs())))?;
     let mut compl = 0.0;
-    let mut force = 0.0;
+    let (mut force, mut area) = (0.0, 0.0);
     for i in 0..cs.len() {
         let (l, un, g) = (sf.stress_n[i], sf.un[i], cs.g[i]);
         lo[0] = lo[0].max(-l);
         lo[1] = lo[1].max(l);
         lo[2] = lo[2].max(un - g);
         lo[3] = lo[3].max(g.abs());
+        lo[5] = lo[5].max(-g);
         compl += cs.w[i] * l * (g - un);
         force += cs.w[i] * l.abs();
+        area += cs.w[i];
     }
-    let [eq2, f2, compl, force] = allreduce_sum(world, [eq2, f2, compl, force]);
+    let [eq2, f2, compl, force, area] = allreduce_sum(world, [eq2, f2, compl, force, area]);
     let m = allreduce_max_n(world, lo);
     let [excess, max_bound, max_slip, stick_slip, min_cos] = if p.tangential && !bound.is_empty() {
         friction(world, p, st, bound)
@@ -252,8 +282,11 @@ pub fn diagnostics<C: Communicator>(
         max_penetration: m[2],
         max_abs_gap: m[3].max(0.0),
         max_abs_u: m[4].max(0.0),
+        max_initial_penetration: m[5].max(0.0),
         complementarity: compl,
         force_abs: force,
+        area,
+        external: 0.0,
         max_friction_excess: excess,
         max_bound,
         max_slip,
@@ -414,7 +447,13 @@ pub fn setup_warnings<C: Communicator>(
             .filter(|&&v| nodes.contains(&v) && along_n(v))
             .count() as f64;
     }
+    let mut counts = counts;
+    counts.push(cs.len() as f64);
     let counts = allreduce_sum_vec(world, &counts);
+    let (counts, candidates) = counts.split_at(settings.dirichlet.len());
+    // A corner or an edge shared with a Dirichlet boundary is common; a
+    // tenth of the surface is not.
+    let many = 0.1 * candidates[0];
     let surface = settings
         .contact
         .as_ref()
@@ -423,8 +462,8 @@ pub fn setup_warnings<C: Communicator>(
     for (bc, &n) in settings
         .dirichlet
         .iter()
-        .zip(&counts)
-        .filter(|(_, &n)| n > 0.0)
+        .zip(counts)
+        .filter(|(_, &n)| n > many)
     {
         out.push(format!(
             "-dirichlet_{} prescribes the displacement along the contact direction n at {n} contact candidates of '{surface}': there the contact condition cannot act (a Dirichlet condition on the contact surface)",
