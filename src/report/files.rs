@@ -76,11 +76,7 @@ fn plot_history(path: &str, m: &Results) -> Result<(), Error> {
 /// The centre `-plot_contact` measures from: `-reference_center`, else the
 /// candidate with the smallest gap when one has it alone, else (a flat
 /// contact) the centre of the contact pressure.
-fn plot_center(s: &Settings, rows: &[ContactRow], d: usize) -> Vec<f64> {
-    let given = s
-        .contact_center
-        .as_deref()
-        .or(s.reference.as_ref().and_then(|r| r.center.as_deref()));
+fn plot_center(given: Option<&[f64]>, rows: &[ContactRow], d: usize) -> Vec<f64> {
     let gmin = rows.iter().map(|r| r.gap).fold(f64::INFINITY, f64::min);
     let scale = rows
         .iter()
@@ -109,7 +105,11 @@ fn plot_contact(path: &str, m: &Results) -> Result<(), Error> {
     use plot::{plot_lines, Series, Style};
     let (s, rows, d) = (m.settings, m.rows, m.local.dim);
     let n = &m.problem.contact.n;
-    let center = plot_center(s, rows, d);
+    let given = s
+        .contact_center
+        .as_deref()
+        .or(s.reference.as_ref().and_then(|r| r.center.as_deref()));
+    let center = plot_center(given, rows, d);
     let coordinate = |r: &ContactRow| {
         if d == 2 {
             hertz::coordinate_2d(&r.x, &center, n)
@@ -418,4 +418,33 @@ fn write_gathered<C: Communicator>(
         cell_data: cell_fields(&all, &ranks),
     };
     vtk::write_vtu(Path::new(path), &piece).map_err(|e| Error::output("-vtk", path, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(x: f64, gap: f64, lambda_n: f64) -> ContactRow {
+        ContactRow {
+            x: [x, 0.0, 0.0],
+            gap,
+            lambda_n,
+            weight: 1.0,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn the_plot_centre() {
+        // A curved contact: the candidate with the smallest gap.
+        let curved = [row(0.0, 0.3, 0.0), row(1.0, 0.1, 2.0), row(2.0, 0.2, 1.0)];
+        assert_eq!(plot_center(None, &curved, 2), vec![1.0, 0.0]);
+        // Given, it wins (with or without a Hertz reference).
+        assert_eq!(plot_center(Some(&[5.0, 1.0]), &curved, 2), vec![5.0, 1.0]);
+        // A flat contact (equal gaps): the centre of pressure, not the
+        // first candidate found.
+        let flat = [row(0.0, 0.0, 1.0), row(1.0, 0.0, 1.0), row(2.0, 0.0, 2.0)];
+        let c = plot_center(None, &flat, 2);
+        assert!((c[0] - 1.25).abs() < 1e-15 && c[1] == 0.0, "{c:?}");
+    }
 }

@@ -447,7 +447,6 @@ pub fn setup_warnings<C: Communicator>(
             .filter(|&&v| nodes.contains(&v) && along_n(v))
             .count() as f64;
     }
-    let mut counts = counts;
     counts.push(cs.len() as f64);
     let counts = allreduce_sum_vec(world, &counts);
     let (counts, candidates) = counts.split_at(settings.dirichlet.len());
