@@ -34,14 +34,20 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
             return Ok(());
         }
     }
-    let mut problem = ContactProblem::new(world)?;
     let mut unused = Unused::default();
+    let mut problem = match ContactProblem::new(world) {
+        Ok(problem) => problem,
+        Err(e) => {
+            unused.undeclared(root)?;
+            return Err(e);
+        }
+    };
     let outcome = problem.run(&mut unused);
-    // After a failure PETSc's objects may not have read their options yet:
-    // only the names that look like the program's are certainly unused.
+    // After a failure some options may not have been read yet: only the
+    // names that look like the program's but are none of them are wrong.
     match &outcome {
         Ok(()) | Err(Error::NotConverged(_)) => unused.finish(root)?,
-        Err(_) => unused.early(root)?,
+        Err(_) => unused.undeclared(root)?,
     }
     outcome
 }

@@ -172,6 +172,47 @@ fn unknown_options_are_named_with_a_suggestion() {
             run.stderr
         );
     }
+    // A mistyped option that makes the run fail is named beside the error.
+    let run = mpirun(
+        2,
+        &[
+            "-mesh",
+            "meshes/hertz_442.msh",
+            "-E",
+            "2000",
+            "-nu",
+            "0.3",
+            "-dirichlet_symmetry",
+            "ux=0",
+            "-traction_top",
+            "0,-100",
+            "-contact_surfce",
+            "contact",
+            "-contact_direction",
+            "0,-1",
+            "-obstacle",
+            "plane",
+            "-obstacle_point",
+            "0,0",
+        ],
+    );
+    assert!(error_line(&run).contains("option -contact_surface is required"));
+    assert_eq!(
+        warnings(&run),
+        ["warning: option -contact_surfce was not used; did you mean -contact_surface?"],
+        "{}",
+        run.stderr
+    );
+    // An option of the program that does not apply here says so.
+    let run = run_hertz(&["-obstacle_radius", "5"]);
+    ok(&run);
+    assert!(
+        warnings(&run).contains(
+            &"warning: option -obstacle_radius was not used: the option it goes with is not given, or another overrides it (-help)"
+        ),
+        "{}",
+        run.stderr
+    );
     // A correct run, with PETSc's options read at the end, warns of nothing.
     let run = run_hertz(&["-log_view", "ascii:/dev/null", "-options_left", "0"]);
     ok(&run);

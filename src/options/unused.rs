@@ -153,8 +153,19 @@ fn looks_ours(name: &str, used: &[String]) -> bool {
     })
 }
 
+/// Whether `name` is one of the program's options (or of a family).
+fn declared(name: &str) -> bool {
+    ALL.iter()
+        .any(|o| o.name() == name || o.prefix().is_some_and(|p| name.starts_with(p)))
+}
+
 /// The warning line for an unused option.
 pub fn message(name: &str, used: &[String]) -> String {
+    if declared(name) {
+        return format!(
+            "warning: option {name} was not used: the option it goes with is not given, or another overrides it (-help)"
+        );
+    }
     match suggestion(name, used) {
         Some(s) => format!("warning: option {name} was not used; did you mean {s}?"),
         None => format!(
@@ -180,6 +191,22 @@ impl Unused {
     /// Warns (rank 0) about every option nothing used, at the end of the run.
     pub fn finish(&mut self, root: bool) -> Result<(), Error> {
         self.warn(root, false)
+    }
+
+    /// After a failure (some options unread): warns about the names that
+    /// look like the program's but are none of them (`-contact_surfce`:
+    /// often the cause of the failure).
+    pub fn undeclared(&mut self, root: bool) -> Result<(), Error> {
+        let left = options::unused()?;
+        for name in left {
+            if !self.warned.contains(&name) && !declared(&name) && looks_ours(&name, &[]) {
+                if root {
+                    eprintln!("{}", message(&name, &[]));
+                }
+                self.warned.push(name);
+            }
+        }
+        Ok(())
     }
 
     fn warn(&mut self, root: bool, only_ours: bool) -> Result<(), Error> {
