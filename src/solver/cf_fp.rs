@@ -161,9 +161,14 @@ pub fn cf_fp<C: Communicator>(
             out.fp_error_estimate = estimate;
         }
         crate::progress::tick(|| {
+            let change = if out.fp_change.is_finite() {
+                format!("{:.2e}", out.fp_change)
+            } else {
+                "not yet known".into()
+            };
             format!(
-                "CF-FP fixed-point iteration {m}: change of s {:.2e}, {} nodes in contact",
-                out.fp_change, run.contact
+                "CF-FP fixed-point iteration {m}: change of s {change}, {} nodes in contact",
+                run.contact
             )
         });
         if root && ctl.monitor {

@@ -543,8 +543,10 @@ pub fn ubr<C: Communicator>(
                         "rel. change (4.16) {:.2e} (target {:.0e})",
                         out.criterion, ctl.rtol
                     )
-                } else {
+                } else if est.is_finite() {
                     format!("estimated error {est:.2e} (target {:.0e})", ctl.lambda_rtol)
+                } else {
+                    format!("error not yet estimated (target {:.0e})", ctl.lambda_rtol)
                 };
                 format!(
                     "{name} iteration {k}: {test}, {} nodes in contact",
