@@ -194,20 +194,23 @@ pub fn friction_bound(settings: &Settings, st: &UbrState, bound: &[f64]) -> Vec<
 }
 
 /// The friction checks over the nodes in contact: (excess, max s, max slip,
-/// max slip at stick, min cosine at slip), global.
+/// max slip at stick, min cosine at slip), global (collective: every rank
+/// calls it, with or without candidates).
 #[allow(clippy::needless_range_loop)] // per-candidate arrays indexed together
 fn friction<C: Communicator>(world: &C, p: &Problem, st: &UbrState, bound: &[f64]) -> [f64; 5] {
     let d = p.dim;
     let sf = &st.surface;
     let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
     let touching = |i: usize| sf.in_contact[i];
+    // (Empty when a frictionless solve for the bound failed: no bound.)
+    let b = |i: usize| bound.get(i).copied().unwrap_or(0.0);
     let mut local_bound = 0.0f64;
     for i in (0..p.contact.len()).filter(|&i| touching(i)) {
-        local_bound = local_bound.max(bound[i]);
+        local_bound = local_bound.max(b(i));
     }
     let max_bound = allreduce_max(world, local_bound);
     // Where the bound is meaningful: s above 1e-6 of the largest.
-    let meaningful = |i: usize| touching(i) && bound[i] > 1e-6 * max_bound;
+    let meaningful = |i: usize| touching(i) && b(i) > 1e-6 * max_bound;
     let (mut excess, mut max_slip, mut stick_slip) = (f64::NEG_INFINITY, 0.0f64, 0.0f64);
     for i in (0..p.contact.len()).filter(|&i| touching(i)) {
         let slip = norm(&sf.ut[i * d..(i + 1) * d]);
@@ -215,7 +218,7 @@ fn friction<C: Communicator>(world: &C, p: &Problem, st: &UbrState, bound: &[f64
         if !sf.slip[i] && meaningful(i) {
             stick_slip = stick_slip.max(slip);
         }
-        excess = excess.max(norm(&sf.stress_t[i * d..(i + 1) * d]) - bound[i]);
+        excess = excess.max(norm(&sf.stress_t[i * d..(i + 1) * d]) - b(i));
     }
     let [excess, max_slip, stick_slip] = allreduce_max_n(world, [excess, max_slip, stick_slip]);
     let mut min_cos = 1.0f64;
@@ -264,7 +267,7 @@ pub fn diagnostics<C: Communicator>(
     }
     let [eq2, f2, compl, force, area] = allreduce_sum(world, [eq2, f2, compl, force, area]);
     let m = allreduce_max_n(world, lo);
-    let [excess, max_bound, max_slip, stick_slip, min_cos] = if p.tangential && !bound.is_empty() {
+    let [excess, max_bound, max_slip, stick_slip, min_cos] = if p.tangential {
         friction(world, p, st, bound)
     } else {
         [0.0, 0.0, 0.0, 0.0, 1.0]
