@@ -8,6 +8,7 @@
 pub mod anderson;
 pub mod cf_fp;
 pub mod deferred;
+pub mod direct;
 pub mod linear;
 pub mod penalty;
 pub mod snesvi;
@@ -17,7 +18,7 @@ pub mod surface;
 pub mod ubr;
 pub mod wellposed;
 
-use linear::LinearSolver;
+use linear::{Engine, LinearSolver};
 use surface::Surface;
 
 use crate::contact::ContactSet;
@@ -320,35 +321,48 @@ impl Problem {
 
         let t1 = std::time::Instant::now();
         let guard = stages.factorization.push()?;
-        let (ksp, description, iterative) = linear_solver(&a, mesh)?;
-        let schur_size = contact.len() * d;
+        // Contact unknowns in all (the same decision on every rank).
+        let schur_size = allreduce_count(world, contact.len()) * d;
         // Not when the paper's change (4.16)/(5.6) of every iteration is wanted.
         let every_change = settings.ubr.stop == stopping::StopRule::Paper
             && (settings.ubr.monitor || settings.plot_history.is_some());
-        let condense = terms != ContactTerms::None
+        // MUMPS driven directly for UBR's default solver (a Cholesky
+        // factorization by MUMPS), PETSc's KSP otherwise.
+        let pc = options::get_string("-pc_type")?;
+        let ksp_type = options::get_string("-ksp_type")?;
+        let solver_type = options::get_string("-pc_factor_mat_solver_type")?;
+        let direct = terms != ContactTerms::None
+            && settings.ubr.mumps_direct
+            && matches!(pc.as_deref(), None | Some("cholesky") | Some("lu"))
+            && matches!(ksp_type.as_deref(), None | Some("preonly"))
+            && matches!(solver_type.as_deref(), None | Some("mumps"));
+        let condense = direct
             && !every_change
-            && world.size() == 1
-            && !iterative
             && schur_size > 0
-            && schur_size <= settings.ubr.condense_max.unwrap_or(CONDENSE_MAX[d - 2])
-            && matches!(ksp.pc_type()?.as_str(), "cholesky" | "lu")
-            && options::get_string("-pc_factor_mat_solver_type")?.as_deref() == Some("mumps");
-        if condense {
-            let unknowns: Vec<sys::PetscInt> = contact
-                .node
-                .iter()
-                .flat_map(|&v| {
-                    (0..d).map(move |c| ((mesh.owned_start + v) * d + c) as sys::PetscInt)
-                })
-                .collect();
-            ksp.request_schur(&unknowns)?;
-        }
-        if terms != ContactTerms::None {
-            ksp.set_up()?; // the one factorization of UBR
-        }
+            && schur_size <= settings.ubr.condense_max.unwrap_or(CONDENSE_MAX[d - 2]);
+        let (engine, description, iterative) = if direct {
+            let surface = Surface {
+                cs: &contact,
+                dim: d,
+                tangential,
+                dirichlet: &contact_dirichlet,
+            };
+            let dm = direct::Direct::new(world, &a, mesh, &surface, condense)?;
+            let description = format!(
+                "MUMPS Cholesky, called directly ({}; {:.3e} flops)",
+                dm.ordering, dm.flops
+            );
+            (Engine::Direct(Box::new(dm)), description, false)
+        } else {
+            let (ksp, description, iterative) = linear_solver(&a, mesh)?;
+            if terms != ContactTerms::None {
+                ksp.set_up()?; // the one factorization of UBR
+            }
+            (Engine::Ksp(ksp), description, iterative)
+        };
         let adaptive_inner = iterative && !options::has_name("-ksp_rtol")?;
         let lin = LinearSolver::new(
-            ksp,
+            engine,
             a,
             rhs0,
             iterative,
