@@ -228,6 +228,14 @@ impl Mumps {
             }
             break;
         }
+        let code = self.id.infog[0];
+        if code == -10 || code == -6 || code == -40 {
+            // A singular operator is a property of the scene: name it.
+            return Err(Error::IllPosed(format!(
+                "the stiffness matrix is singular (MUMPS INFOG(1) = {code}: {}): a part of the mesh can move without deforming and nothing holds it (a mechanism, such as parts joined at a single node, or a rigid motion); check the mesh's connectivity and the Dirichlet conditions",
+                meaning(code, self.id.infog[1])
+            )));
+        }
         self.check("factorization")
     }
 

@@ -28,7 +28,7 @@ use super::surface::Surface;
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
 use crate::mumps::Mumps;
-use crate::petsc::{options, DenseSpd, Matrix};
+use crate::petsc::{options, DenseSpd, LogEvent, Matrix};
 use mpi::datatype::{Partition, PartitionMut};
 use mpi::traits::*;
 
@@ -100,6 +100,13 @@ struct SchurPart {
 /// MUMPS on the assembled matrix, with or without the Schur complement.
 pub struct Direct {
     mumps: Mumps,
+    /// `-log_view` events: MUMPS' numeric factorization and solves, and the
+    /// dense Schur solves on the host.
+    ev_factor: LogEvent,
+    ev_solve: LogEvent,
+    ev_schur: LogEvent,
+    /// Numeric factorizations so far.
+    pub factorizations: usize,
     dofs: Layout,
     schur: Option<SchurPart>,
     /// Flops of the factorization (RINFOG(3)) and the ordering used.
@@ -123,12 +130,13 @@ fn lower_triplets(a: &Matrix) -> Result<(Vec<i32>, Vec<i32>, Vec<f64>), Error> {
 }
 
 /// PERM_IN on the host (empty elsewhere): METIS nested dissection of the
-/// nodal graph of the non-contact nodes, each node's `d` dofs in a row, the
-/// contact nodes' dofs last (in the Schur order `contact_global`).
+/// nodal graph, each node's `d` dofs in a row, except the Schur unknowns
+/// (components `comps` of the nodes `schur_nodes`, in that order), last.
 fn metis_order<C: Communicator>(
     world: &C,
     mesh: &LocalMesh,
-    contact_global: &[usize],
+    schur_nodes: &[usize],
+    comps: &[usize],
 ) -> Result<Vec<i32>, Error> {
     let d = mesh.dim;
     // Each owned node's neighbours (global numbers), gathered on the host.
@@ -158,43 +166,24 @@ fn metis_order<C: Communicator>(
         return Ok(Vec::new());
     }
     let n = mesh.global_nodes;
-    let mut nbrs: Vec<Vec<usize>> = vec![Vec::new(); n];
+    let mut xadj: Vec<i32> = vec![0; n + 1];
+    let mut lists: Vec<Vec<i32>> = vec![Vec::new(); n];
     let mut p = 0;
     while p < all.len() {
         let (g, k) = (all[p] as usize, all[p + 1] as usize);
-        nbrs[g] = all[p + 2..p + 2 + k].iter().map(|&x| x as usize).collect();
+        lists[g] = all[p + 2..p + 2 + k].iter().map(|&x| x as i32).collect();
         p += 2 + k;
     }
-    let mut is_contact = vec![false; n];
-    for &g in contact_global {
-        is_contact[g] = true;
-    }
-    // The graph of the other nodes, renumbered.
-    let mut index = vec![usize::MAX; n];
-    let mut free = Vec::new();
-    for g in 0..n {
-        if !is_contact[g] {
-            index[g] = free.len();
-            free.push(g);
-        }
-    }
-    let mut xadj: Vec<i32> = Vec::with_capacity(free.len() + 1);
     let mut adjncy: Vec<i32> = Vec::new();
-    xadj.push(0);
-    for &g in &free {
-        adjncy.extend(
-            nbrs[g]
-                .iter()
-                .filter(|&&b| !is_contact[b])
-                .map(|&b| index[b] as i32),
-        );
-        xadj.push(adjncy.len() as i32);
+    for (g, l) in lists.iter().enumerate() {
+        adjncy.extend_from_slice(l);
+        xadj[g + 1] = adjncy.len() as i32;
     }
-    let nv = free.len();
-    let mut perm = vec![0i32; nv];
-    let mut iperm = vec![0i32; nv];
-    if nv > 0 {
-        let mut nvtxs = nv as i32;
+    drop(lists);
+    let mut perm = vec![0i32; n];
+    let mut iperm = vec![0i32; n];
+    if n > 0 {
+        let mut nvtxs = n as i32;
         let mut options = [0i32; metis_sys::METIS_NOPTIONS as usize];
         unsafe {
             metis_sys::METIS_SetDefaultOptions(options.as_mut_ptr());
@@ -212,16 +201,27 @@ fn metis_order<C: Communicator>(
             }
         }
     }
-    let mut perm_in = vec![0i32; n * d];
-    for (k, &g) in free.iter().enumerate() {
-        let pos = iperm[k] as usize;
-        for c in 0..d {
-            perm_in[g * d + c] = (pos * d + c + 1) as i32;
+    let mut in_schur = vec![false; n * d];
+    for &g in schur_nodes {
+        for &c in comps {
+            in_schur[g * d + c] = true;
         }
     }
-    for (k, &g) in contact_global.iter().enumerate() {
+    let mut perm_in = vec![0i32; n * d];
+    let mut next = 0i32;
+    for &g in &perm {
+        let g = g as usize;
         for c in 0..d {
-            perm_in[g * d + c] = ((nv + k) * d + c + 1) as i32;
+            if !in_schur[g * d + c] {
+                next += 1;
+                perm_in[g * d + c] = next;
+            }
+        }
+    }
+    for &g in schur_nodes {
+        for &c in comps {
+            next += 1;
+            perm_in[g * d + c] = next;
         }
     }
     Ok(perm_in)
@@ -230,12 +230,15 @@ fn metis_order<C: Communicator>(
 impl Direct {
     /// Analyses and factorizes `a` (the assembled `K_r`), with the Schur
     /// complement on the contact unknowns when `condense`.
+    /// `comps`: the components of each candidate in the Schur complement
+    /// (the normal axis alone when frictionless along an axis).
     pub fn new<C: Communicator>(
         world: &C,
         a: &Matrix,
         mesh: &LocalMesh,
         surface: &Surface,
         condense: bool,
+        comps: &[usize],
     ) -> Result<Direct, Error> {
         let d = mesh.dim;
         let n = mesh.global_nodes * d;
@@ -279,35 +282,52 @@ impl Direct {
                 format!("MUMPS ordering ICNTL(7) = {k}")
             }
             None => {
-                let perm_in =
-                    metis_order(world, mesh, if condense { &contact_global } else { &[] })?;
+                let schur_nodes: &[usize] = if condense { &contact_global } else { &[] };
+                let perm_in = metis_order(world, mesh, schur_nodes, comps)?;
                 mumps.set_ordering(perm_in);
                 "METIS nested dissection".to_string()
             }
         };
-        let m = layout.total() * d;
+        let m = layout.total() * comps.len();
         let dof_layout = Layout::new(world, mesh.owned_count * d);
         if condense {
             let listvar: Vec<i32> = contact_global
                 .iter()
-                .flat_map(|&g| (0..d).map(move |c| (g * d + c + 1) as i32))
+                .flat_map(|&g| comps.iter().map(move |&c| (g * d + c + 1) as i32))
                 .collect();
             mumps.set_schur(m, listvar);
         }
-        mumps.analyse()?;
-        mumps.factorize()?;
+        let ev_factor = LogEvent::register("MUMPSFactorNum")?;
+        let ev_solve = LogEvent::register("MUMPSSolve")?;
+        let ev_schur = LogEvent::register("SchurSolve")?;
+        {
+            let _e = LogEvent::register("MUMPSAnalysis")?.begin();
+            mumps.analyse()?;
+        }
+        {
+            let _e = ev_factor.begin();
+            mumps.factorize()?;
+        }
         let flops = mumps.rinfog(3);
         let schur = if condense {
-            let (s_raw, s) = if world.rank() == 0 {
-                let s_raw = mumps.schur();
-                let s = DenseSpd::factor(m, &s_raw)?;
-                (s_raw, Some(s))
-            } else {
-                (Vec::new(), None)
-            };
+            let (mut s_raw, mut s) = (Vec::new(), None);
+            let mut status = 0.0f64;
+            if world.rank() == 0 {
+                s_raw = mumps.schur();
+                match DenseSpd::factor(m, &s_raw) {
+                    Ok(f) => s = Some(f),
+                    Err(_) => status = 1.0,
+                }
+            }
+            world.process_at_rank(0).broadcast_into(&mut status);
+            if status != 0.0 {
+                return Err(Error::LinearSolver(
+                    "the dense factorization of the Schur complement failed".into(),
+                ));
+            }
             Some(SchurPart {
                 m,
-                layout: Layout::new(world, surface.cs.len() * d),
+                layout: Layout::new(world, surface.cs.len() * comps.len()),
                 s_raw,
                 s,
                 shifted: None,
@@ -317,6 +337,10 @@ impl Direct {
         };
         Ok(Direct {
             mumps,
+            ev_factor,
+            ev_solve,
+            ev_schur,
+            factorizations: 1,
             dofs: dof_layout,
             schur,
             flops,
@@ -341,6 +365,7 @@ impl Direct {
         cols: &mut [f64],
         k: usize,
     ) -> Result<(), Error> {
+        let _e = self.ev_solve.begin();
         let local = cols.len() / k.max(1);
         // Gather column by column (each in rank order).
         let mut all = Vec::new();
@@ -396,6 +421,7 @@ impl Direct {
         c: &[f64],
         x: &mut [f64],
     ) -> Result<(), Error> {
+        let _e = self.ev_schur.begin();
         let sp = self.schur.as_ref().expect("condensed");
         let all = sp.layout.gather(world, c);
         let mut sol = Vec::new();
@@ -440,7 +466,8 @@ impl Direct {
     }
 
     /// S at `S_a + delta M`, M the contact blocks `blocks` (this rank's
-    /// candidates, `d x d` each, row-major; Dirichlet rows and columns zero).
+    /// candidates, `d x d` each (d: the Schur components per candidate),
+    /// row-major; Dirichlet rows and columns zero).
     pub fn shift_schur<C: Communicator>(
         &mut self,
         world: &C,
@@ -489,11 +516,25 @@ impl Direct {
                 }
             }
         })?;
-        self.mumps.factorize()?;
+        {
+            let _e = self.ev_factor.begin();
+            self.mumps.factorize()?;
+        }
+        self.factorizations += 1;
         if let Some(sp) = self.schur.as_mut() {
+            let mut status = 0.0f64;
             if world.rank() == 0 {
                 sp.s_raw = self.mumps.schur();
-                sp.s = Some(DenseSpd::factor(sp.m, &sp.s_raw)?);
+                match DenseSpd::factor(sp.m, &sp.s_raw) {
+                    Ok(f) => sp.s = Some(f),
+                    Err(_) => status = 1.0,
+                }
+            }
+            world.process_at_rank(0).broadcast_into(&mut status);
+            if status != 0.0 {
+                return Err(Error::LinearSolver(
+                    "the dense factorization of the Schur complement failed".into(),
+                ));
             }
             sp.shifted = None;
         }

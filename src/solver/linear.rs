@@ -53,9 +53,14 @@ pub struct LinearSolver {
     pub description: String,
     r_assembled: f64,
     r: f64,
-    /// Condensed: `u_C` of `rhs0` (this rank's candidates) at the assembled
-    /// r and at the current r.
+    /// Condensed: `u_C` of `rhs0` (this rank's candidates, the Schur
+    /// components) at the assembled r and at the current r.
     y0: Option<(Vec<f64>, Vec<f64>)>,
+    /// The components of each candidate in the Schur complement (the normal
+    /// axis alone, frictionless along an axis; else all): a condensed solve
+    /// knows u only there (the other components of `u_C` are set to 0).
+    comps: Vec<usize>,
+    dim: usize,
     /// Dirichlet values at the contact unknowns (0 elsewhere).
     xd_c: Vec<f64>,
     /// Owned Dirichlet dofs and values: an iterative solve meets them only
@@ -81,6 +86,7 @@ impl LinearSolver {
         r: f64,
         xd_c: Vec<f64>,
         dirichlet: Vec<(usize, f64)>,
+        dim: usize,
     ) -> Result<LinearSolver, Error> {
         let rhs = rhs0.duplicate()?;
         Ok(LinearSolver {
@@ -94,6 +100,8 @@ impl LinearSolver {
             r_assembled: r,
             r,
             y0: None,
+            comps: Vec::new(),
+            dim,
             xd_c,
             dirichlet,
             rhs,
@@ -133,9 +141,14 @@ impl LinearSolver {
     }
 
     /// Turns the condensed solves on (a direct engine factorized with the
-    /// Schur complement): solves for `y0` (one full solve), whose contact
-    /// part is `u_C` of rhs0.
-    pub fn condense(&mut self, surface: &Surface, u: &Vector) -> Result<(), Error> {
+    /// Schur complement on the components `comps` of the candidates): solves
+    /// for `y0` (one full solve), whose contact part is `u_C` of rhs0.
+    pub fn condense(
+        &mut self,
+        surface: &Surface,
+        u: &Vector,
+        comps: &[usize],
+    ) -> Result<(), Error> {
         let m = match &self.engine {
             Engine::Direct(d) if d.is_condensed() => d.schur_size(),
             _ => {
@@ -145,12 +158,37 @@ impl LinearSolver {
             }
         };
         self.full_solve(false, u)?;
-        let mut y0 = vec![0.0; surface.len() * surface.dim];
-        extract(surface, u, &mut y0)?;
+        let mut uc = vec![0.0; surface.len() * surface.dim];
+        extract(surface, u, &mut uc)?;
+        self.comps = comps.to_vec();
+        let y0 = self.pick(&uc);
         self.y0 = Some((y0.clone(), y0));
         self.description
             .push_str(&format!(", condensed on the {m} contact unknowns"));
         Ok(())
+    }
+
+    /// The Schur components of a contact vector (candidate by candidate).
+    fn pick(&self, v: &[f64]) -> Vec<f64> {
+        v.chunks_exact(self.dim)
+            .flat_map(|x| self.comps.iter().map(move |&c| x[c]))
+            .collect()
+    }
+
+    /// Writes the Schur components `x` into `uc` (the others 0).
+    fn place(&self, x: &[f64], uc: &mut [f64]) {
+        let nk = self.comps.len();
+        uc.iter_mut().for_each(|v| *v = 0.0);
+        for (i, xi) in x.chunks_exact(nk).enumerate() {
+            for (k, &c) in self.comps.iter().enumerate() {
+                uc[i * self.dim + c] = xi[k];
+            }
+        }
+    }
+
+    /// The Schur components of the candidates, when condensed.
+    pub fn schur_comps(&self) -> Option<&[usize]> {
+        self.y0.as_ref().map(|_| &self.comps[..])
     }
 
     /// Back to full solves (the condensed and full solves disagreed).
@@ -208,10 +246,12 @@ impl LinearSolver {
     ) -> Result<usize, Error> {
         if let (Some((_, y0)), Engine::Direct(d)) = (&self.y0, &self.engine) {
             self.solves += 1;
-            d.solve_schur(&self.world, c, uc)?;
-            for (x, y) in uc.iter_mut().zip(y0) {
-                *x += y;
+            let mut x = vec![0.0; y0.len()];
+            d.solve_schur(&self.world, &self.pick(c), &mut x)?;
+            for (xi, y) in x.iter_mut().zip(y0) {
+                *xi += y;
             }
+            self.place(&x, uc);
             return Ok(0);
         }
         self.rhs.copy_from(&self.rhs0)?;
@@ -231,9 +271,11 @@ impl LinearSolver {
         uc: &mut [f64],
         work: &Vector,
     ) -> Result<usize, Error> {
-        if let (Some(_), Engine::Direct(d)) = (&self.y0, &self.engine) {
+        if let (Some((_, y0)), Engine::Direct(d)) = (&self.y0, &self.engine) {
             self.solves += 1;
-            d.solve_schur(&self.world, c, uc)?;
+            let mut x = vec![0.0; y0.len()];
+            d.solve_schur(&self.world, &self.pick(c), &mut x)?;
+            self.place(&x, uc);
             return Ok(0);
         }
         self.rhs.set(0.0)?;
@@ -334,27 +376,33 @@ impl LinearSolver {
         let cs = surface.cs;
         if let (Some((y0a, _)), Engine::Direct(dd)) = (&self.y0, &mut self.engine) {
             let delta = r_new - self.r_assembled;
-            // S_r' = S_r_a + delta M (M on the unknowns without Dirichlet data).
-            let mut blocks = Vec::with_capacity(surface.len() * d * d);
+            // S_r' = S_r_a + delta M (M on the Schur components without
+            // Dirichlet data).
+            let nk = self.comps.len();
+            let mut blocks = Vec::with_capacity(surface.len() * nk * nk);
             for (i, &w) in cs.w.iter().enumerate() {
                 let b = super::contact_block(d, &cs.n, w, surface.tangential);
-                for a in 0..d {
-                    for c in 0..d {
+                for &a in &self.comps {
+                    for &c in &self.comps {
                         let keep = !surface.dirichlet[i * d + a] && !surface.dirichlet[i * d + c];
                         blocks.push(if keep { b[a * d + c] } else { 0.0 });
                     }
                 }
             }
-            dd.shift_schur(&self.world, delta, &blocks, d)?;
+            dd.shift_schur(&self.world, delta, &blocks, nk)?;
             // y0 at r': S_r' y0' = S_r_a y0 - delta M_FD x_D.
-            let mut b = vec![0.0; m];
+            let mut b = vec![0.0; y0a.len()];
             dd.apply_schur(&self.world, y0a, &mut b);
             let mut col = vec![0.0; m];
             surface.apply_contact_block(&self.xd_c, &mut col);
-            for i in 0..m {
-                b[i] -= delta * col[i];
+            let col: Vec<f64> = col
+                .chunks_exact(d)
+                .flat_map(|x| self.comps.iter().map(move |&c| x[c]))
+                .collect();
+            for (bi, ci) in b.iter_mut().zip(&col) {
+                *bi -= delta * ci;
             }
-            let mut y0 = vec![0.0; m];
+            let mut y0 = vec![0.0; b.len()];
             dd.solve_schur(&self.world, &b, &mut y0)?;
             self.y0.as_mut().expect("condensed").1 = y0;
             self.r = r_new;

@@ -321,8 +321,15 @@ impl Problem {
 
         let t1 = std::time::Instant::now();
         let guard = stages.factorization.push()?;
-        // Contact unknowns in all (the same decision on every rank).
-        let schur_size = allreduce_count(world, contact.len()) * d;
+        // The Schur components of a candidate: the normal axis alone when
+        // frictionless along an axis (u_n is then a dof), else all; and the
+        // contact unknowns in all (the same decision on every rank).
+        let axis = (0..d).find(|&c| contact.n[c].abs() == 1.0);
+        let comps: Vec<usize> = match axis {
+            Some(a) if !tangential => vec![a],
+            _ => (0..d).collect(),
+        };
+        let schur_size = allreduce_count(world, contact.len()) * comps.len();
         // Not when the paper's change (4.16)/(5.6) of every iteration is wanted.
         let every_change = settings.ubr.stop == stopping::StopRule::Paper
             && (settings.ubr.monitor || settings.plot_history.is_some());
@@ -347,7 +354,7 @@ impl Problem {
                 tangential,
                 dirichlet: &contact_dirichlet,
             };
-            let dm = direct::Direct::new(world, &a, mesh, &surface, condense)?;
+            let dm = direct::Direct::new(world, &a, mesh, &surface, condense, &comps)?;
             let description = format!(
                 "MUMPS Cholesky, called directly ({}; {:.3e} flops)",
                 dm.ordering, dm.flops
@@ -371,6 +378,7 @@ impl Problem {
             r,
             xd_c,
             dir.clone(),
+            d,
         )?;
         let mut problem = Problem {
             dim: d,
@@ -403,7 +411,7 @@ impl Problem {
                 tangential,
                 dirichlet: contact_dirichlet,
             };
-            lin.condense(&surface, &work)?;
+            lin.condense(&surface, &work, &comps)?;
         }
         drop(guard);
         problem.time_factorization = t1.elapsed().as_secs_f64();
