@@ -115,7 +115,10 @@ pub struct Direct {
 }
 
 /// This rank's lower-triangle entries of `a` (1-based) and its row counts.
-fn lower_triplets(a: &Matrix) -> Result<(Vec<i32>, Vec<i32>, Vec<f64>), Error> {
+/// Rows, columns (1-based) and values of matrix entries.
+type Triplets = (Vec<i32>, Vec<i32>, Vec<f64>);
+
+fn lower_triplets(a: &Matrix) -> Result<Triplets, Error> {
     let (mut irn, mut jcn, mut val) = (Vec::new(), Vec::new(), Vec::new());
     a.for_each_owned_row(|row, cols, vals| {
         for (&c, &v) in cols.iter().zip(vals) {
