@@ -40,7 +40,7 @@ pub const HELP: &[(&str, &str, &str)] = &[
     ("-ubr_fp_max_it N", "100", "maximum fixed-point iterations (CF-FP)"),
     ("-ubr_fp_anderson M", "3 (0 with -ubr_anderson 0)", "memory of the Anderson acceleration of CF-FP's outer fixed point s -> nu_f |lambda_c(s)|; 0: the paper's plain fixed point"),
     ("-ubr_monitor", "false", "print one line per UBR iteration"),
-    ("-ubr_condense_max P", "2000 in 2D, 0 in 3D", "MUMPS: condense each UBR solve onto the P or fewer contact unknowns (the Schur complement from the one factorization, on rank 0 whatever the rank count; a dense solve per iteration, the whole displacement only at the end; with -ubr_stop paper not with -ubr_monitor, -plot_history); 0: a full sparse solve per iteration"),
+    ("-ubr_condense_max P", "2000 in 2D, 4000 in 3D", "MUMPS: condense each UBR solve onto the P or fewer contact unknowns (the Schur complement from the one factorization, on rank 0 whatever the rank count; a dense solve per iteration, the whole displacement only at the end; with -ubr_stop paper not with -ubr_monitor, -plot_history); 0: a full sparse solve per iteration"),
     ("-ubr_mumps_direct 0|1", "1", "the default direct solver (-pc_type cholesky -pc_factor_mat_solver_type mumps) calls MUMPS itself: METIS nested-dissection ordering, the Schur complement on any rank count; 0: through PETSc's MUMPS interface (AMD/PORD, no condensation)"),
     ("-ubr_inner_rtol_factor F", "0.1", "iterative solvers (inexact Uzawa): each inner solve reduces the residual of the previous iterate b - A u^{k-1} by F (a given -ksp_rtol wins)"),
     ("-ssn_r R", "1e3 E", "SSN-C parameter r of (7.1)"),

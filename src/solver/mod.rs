@@ -123,11 +123,17 @@ impl Problem {
 }
 
 /// Default largest number of contact unknowns for the condensed back-end,
-/// in 2D and 3D. Measured on one rank: hertz_37473 (658 unknowns) 2.2 ->
-/// 0.8 s; the 3D contact face is large against the factorization, which the
-/// Schur complement then slows more than it saves (block3d_2357, 786
-/// unknowns: 0.26 -> 0.32 s; block3d_10761, 2286: 3.0 -> 4.1 s).
-pub const CONDENSE_MAX: [usize; 2] = [2000, 0];
+/// in 2D and 3D (MUMPS called directly: METIS ordering, the Schur unknowns
+/// last, u_n alone when frictionless along an axis). Measured on one rank,
+/// factorization + r choice + iterations, full against condensed: 2D
+/// hertz_37473 (329 unknowns) 2.2 -> 0.7 s; 3D block3d_2357 (262) 0.14 ->
+/// 0.13 s, block3d_10761 (762) 2.00 -> 1.48 s, block3d_17887 (1042) 7.1 ->
+/// 4.8 s, a generated 83,300-node block (2380) 58.1 -> 48.0 s; Coulomb
+/// (every component) block3d_10761 (2286) 5.6 -> 3.1 s, block3d_17887
+/// (3126) 10.6 -> 6.5 s. Above a few thousand unknowns the dense m^3/3 of
+/// the Schur block (on rank 0) grows past what 20-130 iterations save; in 2D
+/// the sparse solves are cheap and the break-even comes sooner.
+pub const CONDENSE_MAX: [usize; 2] = [2000, 4000];
 
 /// The UBR matrix block `r w (n n^T)` (frictionless) or `r w I` (with friction) of one node.
 pub fn contact_block(dim: usize, n: &[f64], rw: f64, tangential: bool) -> Vec<f64> {
