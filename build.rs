@@ -1,5 +1,6 @@
-//! Bindings to Debian's PETSc, generated at build time by bindgen, and a small
-//! C shim for what PETSc offers only as macros (log events).
+//! Bindings to Debian's PETSc and to MUMPS' C interface (`dmumps_c.h`,
+//! libmumps-dev), generated at build time by bindgen, and a small C shim for
+//! what PETSc offers only as macros (log events).
 
 use std::env;
 use std::path::PathBuf;
@@ -7,6 +8,7 @@ use std::path::PathBuf;
 fn main() {
     println!("cargo:rerun-if-changed=src/petsc/shim.c");
     println!("cargo:rerun-if-changed=src/petsc/wrapper.h");
+    println!("cargo:rerun-if-changed=src/mumps/wrapper.h");
     let petsc = pkg_config::Config::new()
         .probe("PETSc")
         .or_else(|_| pkg_config::Config::new().probe("petsc"))
@@ -49,4 +51,21 @@ fn main() {
     bindings
         .write_to_file(out.join("petsc_sys.rs"))
         .expect("cannot write bindings");
+
+    // MUMPS 5.5 itself (the library PETSc loads), for the direct back-end.
+    let mumps = bindgen::Builder::default()
+        .header("src/mumps/wrapper.h")
+        .allowlist_type("DMUMPS_STRUC_C")
+        .allowlist_function("dmumps_c")
+        .derive_default(true)
+        .layout_tests(false)
+        .generate_comments(false)
+        .generate()
+        .expect("bindgen failed on dmumps_c.h (install libmumps-dev: ./run.sh does)");
+    mumps
+        .write_to_file(out.join("mumps_sys.rs"))
+        .expect("cannot write bindings");
+    for lib in ["dmumps", "mumps_common", "pord"] {
+        println!("cargo:rustc-link-lib=dylib={lib}");
+    }
 }

@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-PACKAGES=(petsc-dev libopenmpi-dev openmpi-bin libclang-dev pkg-config libopenblas0-serial gmsh fonts-dejavu-core)
+PACKAGES=(petsc-dev libmumps-dev libmumps-headers-dev libopenmpi-dev openmpi-bin libclang-dev pkg-config libopenblas0-serial gmsh fonts-dejavu-core)
 # Independent readers for the output tests (.vtu, .pvtu): Debian's meshio and VTK.
 TEST_PACKAGES=(python3-meshio python3-vtk9)
 

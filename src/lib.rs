@@ -6,6 +6,7 @@ pub mod contact;
 pub mod error;
 pub mod fem;
 pub mod mesh;
+pub mod mumps;
 pub mod options;
 pub mod petsc;
 pub mod progress;

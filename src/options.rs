@@ -116,6 +116,8 @@ pub struct UbrSettings {
     pub dual_rtol: f64,
     /// Anderson memory (0: the paper's plain iteration).
     pub anderson: usize,
+    /// MUMPS called directly for the default direct solver (else through PETSc).
+    pub mumps_direct: bool,
     /// Condense the UBR solve onto the contact unknowns when there are at
     /// most this many (None: the default of the dimension, see `-help`).
     pub condense_max: Option<usize>,
@@ -451,6 +453,7 @@ fn ubr_settings() -> Result<UbrSettings, Error> {
             .unwrap_or(if anderson > 0 { 3 } else { 0 }),
         monitor: UBR_MONITOR.get()?,
         anderson,
+        mumps_direct: UBR_MUMPS_DIRECT.get()?,
         condense_max: UBR_CONDENSE_MAX.count()?,
         dual_rtol: positive(
             UBR_DUAL_RTOL.name,

@@ -65,7 +65,8 @@ const MESH: &str = "meshes/hertz_6619.msh";
 
 #[test]
 fn ubr_c_and_anderson() {
-    let c = same_as_full("c", &hertz_args(MESH, &[]), 274.0, 1e-9);
+    // Frictionless along an axis: the Schur complement on u_n alone.
+    let c = same_as_full("c", &hertz_args(MESH, &[]), 137.0, 1e-9);
     assert_eq!(c["converged"], serde_json::Value::Bool(true));
     let its = num(&c, "iterations");
     assert!((35.0..=65.0).contains(&its), "{its} iterations");
@@ -74,7 +75,7 @@ fn ubr_c_and_anderson() {
     same_as_full(
         "aa",
         &hertz_aa_args(MESH, &["-ubr_anderson", "10", "-ubr_rtol", "1e-8"]),
-        274.0,
+        137.0,
         1e-6,
     );
 }
@@ -120,11 +121,14 @@ fn stopped_by_the_cap() {
     }
 }
 
-/// Not on several ranks, not in 3D by default, not when every change is
-/// printed; bad values are bad input.
+/// On several ranks too (the Schur complement on rank 0), in 3D too; not
+/// when every change of the paper's test is printed, not through PETSc's
+/// MUMPS interface; bad values are bad input.
 #[test]
 fn where_it_does_not_apply() {
     let (_, r, _) = solve_rows("n2", 2, &hertz_args(MESH, &[]));
+    assert_eq!(num(&r, "condensed_unknowns"), 137.0);
+    let (_, r, _) = solve_rows("petsc", 1, &hertz_args(MESH, &["-ubr_mumps_direct", "0"]));
     assert_eq!(num(&r, "condensed_unknowns"), 0.0);
     let (run, r, _) = solve_rows("monitor", 1, &hertz_args(MESH, &["-ubr_monitor"]));
     assert_eq!(num(&r, "condensed_unknowns"), 0.0);
@@ -135,11 +139,8 @@ fn where_it_does_not_apply() {
         "-mesh",
         "meshes/block3d_739.msh",
     ];
-    let (_, r, _) = solve_rows("block", 1, &block);
-    assert_eq!(num(&r, "condensed_unknowns"), 0.0);
-    let mut forced = block.to_vec();
-    forced.extend_from_slice(&["-ubr_condense_max", "5000"]);
-    same_as_full("block_forced", &forced, 369.0, 1e-9);
+    // 3D too: u_n alone, 123 candidates.
+    same_as_full("block", &block, 123.0, 1e-9);
     let run = mpirun(2, &hertz_args(MESH, &["-ubr_condense_max", "-1"]));
     assert_eq!(run.status, Some(2), "{}", run.stderr);
     assert!(run.stderr.contains("-ubr_condense_max"), "{}", run.stderr);

@@ -205,8 +205,8 @@ fn coulomb_one_numeric_factorization() {
     let line = run
         .stdout
         .lines()
-        .find(|l| l.starts_with("MatCholFctrNum"))
-        .expect("MatCholFctrNum");
+        .find(|l| l.starts_with("MUMPSFactorNum"))
+        .expect("MUMPSFactorNum");
     let count: usize = line.split_whitespace().nth(1).unwrap().parse().unwrap();
     assert_eq!(count, 1, "{line}");
 }

@@ -150,18 +150,29 @@ fn rank_count_independence() {
     }
 }
 
-/// The UBR matrix is factorized once: -log_view shows one numeric factorization.
+/// The UBR matrix is factorized once: -log_view shows one numeric
+/// factorization, MUMPS called directly (MUMPSFactorNum) or through PETSc
+/// (MatCholFctrNum).
 #[test]
 fn one_numeric_factorization() {
+    for (event, extra) in [
+        ("MUMPSFactorNum", &["-log_view"][..]),
+        (
+            "MatCholFctrNum",
+            &["-log_view", "-ubr_mumps_direct", "0"][..],
+        ),
+    ] {
+        let run = mpirun(2, &hertz_args("meshes/hertz_1692.msh", extra));
+        assert_eq!(run.status, Some(0), "{}", run.stderr);
+        let line = run
+            .stdout
+            .lines()
+            .find(|l| l.starts_with(event))
+            .unwrap_or_else(|| panic!("no {event} in -log_view:\n{}", run.stdout));
+        let count: usize = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+        assert_eq!(count, 1, "{line}");
+    }
     let run = mpirun(2, &hertz_args("meshes/hertz_1692.msh", &["-log_view"]));
-    assert_eq!(run.status, Some(0), "{}", run.stderr);
-    let line = run
-        .stdout
-        .lines()
-        .find(|l| l.starts_with("MatCholFctrNum"))
-        .unwrap_or_else(|| panic!("no MatCholFctrNum in -log_view:\n{}", run.stdout));
-    let count: usize = line.split_whitespace().nth(1).unwrap().parse().unwrap();
-    assert_eq!(count, 1, "{line}");
     for stage in [
         "Mesh",
         "Partition",

@@ -177,7 +177,15 @@ fn sigterm_leaves_no_partial_output() {
             "-mesh",
             "meshes/hertz_37473.msh",
         ])
-        .args(["-ubr_rtol", "1e-14", "-ubr_max_it", "100000"])
+        // Full sparse solves (no condensation): a run long enough to kill.
+        .args([
+            "-ubr_rtol",
+            "1e-14",
+            "-ubr_max_it",
+            "100000",
+            "-ubr_condense_max",
+            "0",
+        ])
         .args([
             "-report",
             &rep,

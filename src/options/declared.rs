@@ -17,9 +17,6 @@ pub struct Opt<T: 'static> {
     pub help: &'static str,
 }
 
-/// A switch, off unless given.
-pub struct Flag;
-
 /// One word out of `values`, `default` when not given.
 pub struct Choice {
     pub default: &'static str,
@@ -71,7 +68,7 @@ macro_rules! declared {
 }
 declared!(f64, |s| format_real(s.default));
 declared!(usize, |s| s.default.to_string());
-declared!(Flag, |_s| "false".into());
+declared!(bool, |s| s.default.to_string());
 declared!(Choice, |s| s.default.default.into());
 declared!(Given, |s| s.default.0.into());
 declared!(
@@ -143,10 +140,11 @@ impl Opt<usize> {
     }
 }
 
-impl Opt<Flag> {
+impl Opt<bool> {
+    /// A switch: given without a value, on.
     pub fn get(&self) -> Result<bool, Error> {
         match raw(self.name)? {
-            None => Ok(false),
+            None => Ok(self.default),
             Some(s) => match s.trim().to_ascii_lowercase().as_str() {
                 "" | "1" | "true" | "yes" | "on" => Ok(true),
                 "0" | "false" | "no" | "off" => Ok(false),
@@ -238,7 +236,7 @@ opt!(MESH_ELEMENT: Given = "-mesh_element" "tri|quad|tet|hex", Given("tri (hertz
 // Material
 opt!(YOUNG: Given = "-E" "VALUE", Given("required"), "Young's modulus");
 opt!(NU: Given = "-nu" "VALUE", Given("required"), "Poisson's ratio, in (-1, 0.5)");
-opt!(PLANE_STRESS: Flag = "-plane_stress" "", Flag, "2D: plane stress instead of plane strain");
+opt!(PLANE_STRESS: bool = "-plane_stress" "", false, "2D: plane stress instead of plane strain");
 // Loads and supports
 opt!(DIRICHLET: Family = "-dirichlet_NAME" "ux=V,uy=V[,uz=V]", Family, "prescribed displacement components on physical group NAME (its reaction force is in the summary and the report)");
 opt!(TRACTION: Family = "-traction_NAME" "tx,ty[,tz]", Family, "surface traction (force per unit measure) on physical group NAME");
@@ -271,8 +269,9 @@ opt!(UBR_MAX_IT: usize = "-ubr_max_it" "N", 10000, "maximum UBR iterations");
 opt!(UBR_FP_RTOL: f64 = "-ubr_fp_rtol" "EPS", 1e-4, "paper stop: fixed-point tolerance eps_fp of (5.7) (CF-FP)");
 opt!(UBR_FP_MAX_IT: usize = "-ubr_fp_max_it" "N", 100, "maximum fixed-point iterations (CF-FP)");
 opt!(UBR_FP_ANDERSON: Given = "-ubr_fp_anderson" "M", Given("3 (0 with -ubr_anderson 0)"), "memory of the Anderson acceleration of CF-FP's outer fixed point s -> nu_f |lambda_c(s)|; 0: the paper's plain fixed point");
-opt!(UBR_MONITOR: Flag = "-ubr_monitor" "", Flag, "print one line per UBR iteration");
-opt!(UBR_CONDENSE_MAX: Given = "-ubr_condense_max" "P", Given("2000 in 2D, 0 in 3D"), "one rank, MUMPS factorization: condense each UBR solve onto the P or fewer unknowns of the contact nodes (Schur complement from the one factorization, a dense solve per iteration; the whole displacement only where the other stopping tests pass, and at the end; not with -ubr_monitor, -plot_history); 0: a full sparse solve per iteration");
+opt!(UBR_MONITOR: bool = "-ubr_monitor" "", false, "print one line per UBR iteration");
+opt!(UBR_CONDENSE_MAX: Given = "-ubr_condense_max" "P", Given("2000 in 2D, 4000 in 3D"), "MUMPS: condense each UBR solve onto the P or fewer contact unknowns (the Schur complement from the one factorization, on rank 0 whatever the rank count; a dense solve per iteration, the whole displacement only at the end; with -ubr_stop paper not with -ubr_monitor, -plot_history); 0: a full sparse solve per iteration");
+opt!(UBR_MUMPS_DIRECT: bool = "-ubr_mumps_direct" "0|1", true, "the default direct solver (-pc_type cholesky -pc_factor_mat_solver_type mumps) calls MUMPS itself: METIS nested-dissection ordering, the Schur complement on any rank count; 0: through PETSc's MUMPS interface (AMD/PORD, no condensation)");
 opt!(UBR_INNER_RTOL_FACTOR: f64 = "-ubr_inner_rtol_factor" "F", 0.1, "iterative solvers (inexact Uzawa): each inner solve reduces the residual of the previous iterate b - A u^{k-1} by F (a given -ksp_rtol wins)");
 opt!(SSN_R: Given = "-ssn_r" "R", Given("1e3 E"), "SSN-C parameter r of (7.1)");
 opt!(SSN_INITIAL_SHIFT: Given = "-ssn_initial_shift" "ux,uy[,uz]", Given("0"), "SSN-C initial guess u^0, the same at every node (the paper: 0,-0.01 for the floating Hertz body)");
@@ -288,7 +287,7 @@ opt!(CONTACT_OUTPUT: Given = "-contact_output" "FILE.csv", Given("none"), "write
 opt!(VTK: Given = "-vtk" "FILE.vtu|PATH.pvtu", Given("none"), "ParaView output with displacement, stress, von Mises, rank, contact fields and the mesh file's node tag: FILE.vtu, one file gathered on rank 0 (readable by meshio); PATH.pvtu, an index and one PATH_RANK.vtu piece per rank");
 opt!(PLOT_CONTACT: Given = "-plot_contact" "FILE.png", Given("none"), "plot the contact pressure (and tangential traction, friction bound, Hertz) along the surface: against a signed coordinate along it in 2D, the distance from the contact centre in 3D");
 opt!(PLOT_HISTORY: Given = "-plot_history" "FILE.png", Given("none"), "plot the UBR change (4.16)/(5.6) and constraint residual per iteration");
-opt!(HELP: Flag = "-help" "", Flag, "this list (PETSc's solver options are listed when a scene is given too)");
+opt!(HELP: bool = "-help" "", false, "this list (PETSc's solver options are listed when a scene is given too)");
 
 /// Every option, in the order `-help` lists them.
 pub const ALL: &[&dyn Declared] = &[
@@ -329,6 +328,7 @@ pub const ALL: &[&dyn Declared] = &[
     &UBR_FP_ANDERSON,
     &UBR_MONITOR,
     &UBR_CONDENSE_MAX,
+    &UBR_MUMPS_DIRECT,
     &UBR_INNER_RTOL_FACTOR,
     &SSN_R,
     &SSN_INITIAL_SHIFT,

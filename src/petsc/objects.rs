@@ -261,6 +261,40 @@ impl Matrix {
         unsafe { check(sys::MatGetDiagonal(self.raw, d.raw)) }
     }
 
+    /// This rank's rows as visited by `f(row, cols, vals)` (global,
+    /// 0-based; columns increasing), in row order.
+    pub fn for_each_owned_row(
+        &self,
+        mut f: impl FnMut(usize, &[sys::PetscInt], &[f64]),
+    ) -> Result<(), Error> {
+        let (mut lo, mut hi): (sys::PetscInt, sys::PetscInt) = (0, 0);
+        unsafe { check(sys::MatGetOwnershipRange(self.raw, &mut lo, &mut hi))? };
+        for row in lo..hi {
+            let mut ncols: sys::PetscInt = 0;
+            let mut cols: *const sys::PetscInt = std::ptr::null();
+            let mut vals: *const f64 = std::ptr::null();
+            unsafe {
+                check(sys::MatGetRow(
+                    self.raw, row, &mut ncols, &mut cols, &mut vals,
+                ))?;
+                let n = ncols as usize;
+                let (c, v) = if n == 0 {
+                    (&[][..], &[][..])
+                } else {
+                    (
+                        std::slice::from_raw_parts(cols, n),
+                        std::slice::from_raw_parts(vals, n),
+                    )
+                };
+                f(row as usize, c, v);
+                check(sys::MatRestoreRow(
+                    self.raw, row, &mut ncols, &mut cols, &mut vals,
+                ))?;
+            }
+        }
+        Ok(())
+    }
+
     pub fn stats(&self) -> Result<MatStats, Error> {
         let mut info = sys::MatInfo::default();
         unsafe { check(sys::MatGetInfo(self.raw, sys::MAT_GLOBAL_SUM, &mut info))? };

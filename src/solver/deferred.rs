@@ -27,7 +27,7 @@
 use super::linear::LinearSolver;
 use super::stopping::paper_change;
 use super::surface::{Surface, SurfaceState};
-use super::{allreduce_sum, mass_norms};
+use super::{allreduce_max_n, allreduce_sum, mass_norms};
 use crate::error::Error;
 use mpi::traits::*;
 
@@ -166,6 +166,10 @@ impl Deferred {
             cols.push((&cand.c, &cand.uc));
             own_col.push(cols.len() - 1);
         }
+        // A condensed solve knows u at the Schur components only.
+        let comps: Vec<usize> = lin
+            .schur_comps()
+            .map_or_else(|| (0..d).collect(), |c| c.to_vec());
         let x = lin.displacements(surface, &cols)?;
         let mut found = None;
         let mut chosen = self.pending.len() - 1;
@@ -181,12 +185,17 @@ impl Deferred {
                 };
                 let (mut diff, mut scale) = (0.0f64, 0.0f64);
                 for (l, &v) in cs.node.iter().enumerate() {
-                    for k in 0..d {
+                    for &k in &comps {
                         diff = diff.max((uu[v * d + k] - cand.uc[l * d + k]).abs());
                         scale = scale.max(uu[v * d + k].abs());
                     }
                 }
-                if diff.is_nan() || diff > 1e-6 * scale {
+                // Global maxima: the decision is the same on every rank.
+                let [diff, scale] = allreduce_max_n(
+                    world,
+                    [if diff.is_nan() { f64::INFINITY } else { diff }, scale],
+                );
+                if diff > 1e-6 * scale {
                     return Ok(Some(format!(
                         "the condensed solve differs from the full one by {diff:.3e} at the \
                          contact nodes (displacements up to {scale:.3e}): is the body held?"

@@ -4,12 +4,14 @@
 //! Every UBR solve (4.5)/(5.3) has the right-hand side `f + B^T W v`, whose
 //! contact part `c = B^T W v` lives on the contact nodes alone. A back-end
 //! returns `u_C`, the displacement at the contact nodes, for `rhs0 + C c`:
-//! - **full**: a sparse solve of the whole system (any KSP/PC from the
-//!   options; the whole displacement comes with it);
-//! - **condensed** (one rank, MUMPS): `u_C = y0 + S^{-1} c`, where S is the
-//!   Schur complement of `K_r` on the contact unknowns, returned by MUMPS with
-//!   the one numeric factorization, and `y0` is `u_C` for `rhs0`. The whole
-//!   displacement costs one sparse solve, at the end.
+//! - **full**: a sparse solve of the whole system, by PETSc's KSP (any
+//!   KSP/PC from the options) or by MUMPS directly ([`super::direct`]); the
+//!   whole displacement comes with it;
+//! - **condensed** (MUMPS directly, any number of ranks): `u_C = y0 + S^{-1} c`,
+//!   where S is the Schur complement of `K_r` on the contact unknowns,
+//!   returned by MUMPS with the one numeric factorization (on the host), and
+//!   `y0` is `u_C` for `rhs0`. The whole displacement costs one sparse
+//!   solve, at the end.
 //!
 //! Changing r. `K_r' = K_r + (r' - r) B^T W B` differs from `K_r` only in the
 //! contact blocks, so its Schur complement is `S + (r' - r) M` (M: the
@@ -17,31 +19,29 @@
 //! changes r with a dense refactorization of S alone, and gets the whole
 //! displacement from the factorization of `K_r` by moving the difference to
 //! the right-hand side, `K_r u = rhs0 + C (c - (r' - r) M u_C)`, exact since
-//! `u_C` is known. The full back-end updates the contact blocks of the
-//! matrix and refactorizes (a direct solver: numeric factorization only, the
+//! `u_C` is known. A full back-end updates the contact blocks of the matrix
+//! and refactorizes (a direct solver: numeric factorization only, the
 //! pattern is the same) or keeps its preconditioner (an iterative one: the
 //! multigrid hierarchy of `K_r` serves `K_r'`, no second set-up).
 
+use super::direct::Direct;
 use super::surface::Surface;
 use crate::error::Error;
-use crate::petsc::{sys, DenseColumns, DenseSpd, Ksp, Matrix, SchurSolver, Vector};
+use crate::petsc::{sys, DenseColumns, Ksp, Matrix, Vector};
+use mpi::topology::SimpleCommunicator;
 
-/// The condensed back-end's data.
-pub struct Condensed {
-    /// PETSc's factorization of S at the assembled r (the full solves use it too).
-    schur: SchurSolver,
-    /// S at the assembled r, unfactored (column-major).
-    s0: Vec<f64>,
-    /// S at the current r, when it differs from the assembled one.
-    shifted: Option<DenseSpd>,
-    /// `u_C` for `rhs0` at the assembled r, and at the current r.
-    y0_assembled: Vec<f64>,
-    y0: Vec<f64>,
+/// What solves with `K_r`.
+pub enum Engine {
+    /// PETSc's KSP, any solver from the options.
+    Ksp(Ksp),
+    /// MUMPS driven directly (METIS ordering, Schur complement on any rank count).
+    Direct(Box<Direct>),
 }
 
 /// `K_r^{-1}` for UBR, with the bookkeeping of r and of the solves.
 pub struct LinearSolver {
-    pub ksp: Ksp,
+    engine: Engine,
+    world: SimpleCommunicator,
     /// `K + r_a B^T W B` with Dirichlet rows and columns eliminated (r_a: the
     /// assembled r).
     pub matrix: Matrix,
@@ -53,7 +53,14 @@ pub struct LinearSolver {
     pub description: String,
     r_assembled: f64,
     r: f64,
-    condensed: Option<Condensed>,
+    /// Condensed: `u_C` of `rhs0` (this rank's candidates, the Schur
+    /// components) at the assembled r and at the current r.
+    y0: Option<(Vec<f64>, Vec<f64>)>,
+    /// The components of each candidate in the Schur complement (the normal
+    /// axis alone, frictionless along an axis; else all): a condensed solve
+    /// knows u only there (the other components of `u_C` are set to 0).
+    comps: Vec<usize>,
+    dim: usize,
     /// Dirichlet values at the contact unknowns (0 elsewhere).
     xd_c: Vec<f64>,
     /// Owned Dirichlet dofs and values: an iterative solve meets them only
@@ -70,7 +77,7 @@ pub struct LinearSolver {
 impl LinearSolver {
     #[allow(clippy::too_many_arguments)]
     pub fn new(
-        ksp: Ksp,
+        engine: Engine,
         matrix: Matrix,
         rhs0: Vector,
         iterative: bool,
@@ -79,10 +86,12 @@ impl LinearSolver {
         r: f64,
         xd_c: Vec<f64>,
         dirichlet: Vec<(usize, f64)>,
+        dim: usize,
     ) -> Result<LinearSolver, Error> {
         let rhs = rhs0.duplicate()?;
         Ok(LinearSolver {
-            ksp,
+            engine,
+            world: SimpleCommunicator::world(),
             matrix,
             rhs0,
             iterative,
@@ -90,7 +99,9 @@ impl LinearSolver {
             description,
             r_assembled: r,
             r,
-            condensed: None,
+            y0: None,
+            comps: Vec::new(),
+            dim,
             xd_c,
             dirichlet,
             rhs,
@@ -111,48 +122,116 @@ impl LinearSolver {
     }
 
     pub fn condensed_unknowns(&self) -> usize {
-        self.condensed.as_ref().map_or(0, |c| c.y0.len())
+        match &self.engine {
+            Engine::Direct(d) if self.y0.is_some() => d.schur_size(),
+            _ => 0,
+        }
     }
 
     pub fn is_condensed(&self) -> bool {
-        self.condensed.is_some()
+        self.y0.is_some()
     }
 
-    /// Turns the condensed back-end on, from the factorization that
-    /// [`Ksp::request_schur`] asked for: takes a copy of S, factorizes it, and
-    /// solves for `y0` (one full solve), whose contact part is `u_C` of rhs0.
-    pub fn condense(&mut self, surface: &Surface, u: &Vector) -> Result<(), Error> {
-        let m = surface.len() * surface.dim;
-        let s0 = self.ksp.schur_copy(m)?;
-        let schur = self.ksp.schur(m)?;
-        self.ksp.solve(&self.rhs0, u)?;
-        self.solves += 1;
-        let mut y0 = vec![0.0; m];
-        extract(surface, u, &mut y0)?;
-        self.condensed = Some(Condensed {
-            schur,
-            s0,
-            shifted: None,
-            y0_assembled: y0.clone(),
-            y0,
-        });
+    /// The direct back-end's factorization flops (0 for PETSc's KSP).
+    pub fn factorization_flops(&self) -> f64 {
+        match &self.engine {
+            Engine::Direct(d) => d.flops,
+            Engine::Ksp(_) => 0.0,
+        }
+    }
+
+    /// Turns the condensed solves on (a direct engine factorized with the
+    /// Schur complement on the components `comps` of the candidates): solves
+    /// for `y0` (one full solve), whose contact part is `u_C` of rhs0.
+    pub fn condense(
+        &mut self,
+        surface: &Surface,
+        u: &Vector,
+        comps: &[usize],
+    ) -> Result<(), Error> {
+        let m = match &self.engine {
+            Engine::Direct(d) if d.is_condensed() => d.schur_size(),
+            _ => {
+                return Err(Error::Internal(
+                    "condensation needs the Schur complement".into(),
+                ))
+            }
+        };
+        self.full_solve(false, u)?;
+        let mut uc = vec![0.0; surface.len() * surface.dim];
+        extract(surface, u, &mut uc)?;
+        self.comps = comps.to_vec();
+        let y0 = self.pick(&uc);
+        self.y0 = Some((y0.clone(), y0));
         self.description
             .push_str(&format!(", condensed on the {m} contact unknowns"));
         Ok(())
     }
 
+    /// The Schur components of a contact vector (candidate by candidate).
+    fn pick(&self, v: &[f64]) -> Vec<f64> {
+        v.chunks_exact(self.dim)
+            .flat_map(|x| self.comps.iter().map(move |&c| x[c]))
+            .collect()
+    }
+
+    /// Writes the Schur components `x` into `uc` (the others 0).
+    fn place(&self, x: &[f64], uc: &mut [f64]) {
+        let nk = self.comps.len();
+        uc.iter_mut().for_each(|v| *v = 0.0);
+        for (i, xi) in x.chunks_exact(nk).enumerate() {
+            for (k, &c) in self.comps.iter().enumerate() {
+                uc[i * self.dim + c] = xi[k];
+            }
+        }
+    }
+
+    /// The Schur components of the candidates, when condensed.
+    pub fn schur_comps(&self) -> Option<&[usize]> {
+        self.y0.as_ref().map(|_| &self.comps[..])
+    }
+
     /// Back to full solves (the condensed and full solves disagreed).
     pub fn uncondense(&mut self) {
-        self.condensed = None;
+        self.y0 = None;
     }
 
     /// Inexact solves: the relative tolerance of the next inner solves.
     pub fn set_inner_rtol(&mut self, rtol: f64) -> Result<(), Error> {
-        if self.iterative && self.adaptive_inner && rtol != self.rtol {
-            self.ksp.set_rtol(rtol)?;
-            self.rtol = rtol;
+        if let Engine::Ksp(ksp) = &self.engine {
+            if self.iterative && self.adaptive_inner && rtol != self.rtol {
+                ksp.set_rtol(rtol)?;
+                self.rtol = rtol;
+            }
         }
         Ok(())
+    }
+
+    /// One full solve `K_r u = b`, b the work vector `rhs` (`true`) or
+    /// `rhs0` (u: the initial guess of an iterative solver); returns the
+    /// inner iteration count.
+    fn full_solve(&mut self, from_rhs: bool, u: &Vector) -> Result<usize, Error> {
+        self.solves += 1;
+        let b = if from_rhs { &self.rhs } else { &self.rhs0 };
+        match &mut self.engine {
+            Engine::Ksp(ksp) => {
+                let its = ksp.solve(b, u)?;
+                if self.iterative {
+                    u.write(|u| {
+                        for &(i, v) in &self.dirichlet {
+                            u[i] = v;
+                        }
+                    })?;
+                }
+                Ok(its)
+            }
+            Engine::Direct(d) => {
+                let mut x = b.read(|b| b.to_vec())?;
+                d.solve_full(&self.world, &mut x, 1)?;
+                u.write(|u| u.copy_from_slice(&x))?;
+                Ok(0)
+            }
+        }
     }
 
     /// `u_C` for the right-hand side `rhs0 + C c` into `uc`; a full solve
@@ -165,35 +244,21 @@ impl LinearSolver {
         uc: &mut [f64],
         u: &Vector,
     ) -> Result<usize, Error> {
-        self.solves += 1;
-        if let Some(cd) = &self.condensed {
-            match &cd.shifted {
-                Some(s) => s.solve(c, uc)?,
-                None => cd.schur.solve(c, uc)?,
+        if let (Some((_, y0)), Engine::Direct(d)) = (&self.y0, &self.engine) {
+            self.solves += 1;
+            let mut x = vec![0.0; y0.len()];
+            d.solve_schur(&self.world, &self.pick(c), &mut x)?;
+            for (xi, y) in x.iter_mut().zip(y0) {
+                *xi += y;
             }
-            for (x, y) in uc.iter_mut().zip(&cd.y0) {
-                *x += y;
-            }
+            self.place(&x, uc);
             return Ok(0);
         }
         self.rhs.copy_from(&self.rhs0)?;
         scatter_add(surface, c, &self.rhs)?;
-        let its = self.ksp.solve(&self.rhs, u)?;
-        self.exact_dirichlet(u, 1.0)?;
+        let its = self.full_solve(true, u)?;
         extract(surface, u, uc)?;
         Ok(its)
-    }
-
-    /// Iterative solves: the Dirichlet values exactly (`scale` 0: zero data).
-    fn exact_dirichlet(&self, u: &Vector, scale: f64) -> Result<(), Error> {
-        if !self.iterative {
-            return Ok(());
-        }
-        u.write(|u| {
-            for &(i, v) in &self.dirichlet {
-                u[i] = scale * v;
-            }
-        })
     }
 
     /// `u_C` for `C c` alone (no load, zero Dirichlet data): the operator
@@ -206,19 +271,24 @@ impl LinearSolver {
         uc: &mut [f64],
         work: &Vector,
     ) -> Result<usize, Error> {
-        self.solves += 1;
-        if let Some(cd) = &self.condensed {
-            match &cd.shifted {
-                Some(s) => s.solve(c, uc)?,
-                None => cd.schur.solve(c, uc)?,
-            }
+        if let (Some((_, y0)), Engine::Direct(d)) = (&self.y0, &self.engine) {
+            self.solves += 1;
+            let mut x = vec![0.0; y0.len()];
+            d.solve_schur(&self.world, &self.pick(c), &mut x)?;
+            self.place(&x, uc);
             return Ok(0);
         }
         self.rhs.set(0.0)?;
         scatter_add(surface, c, &self.rhs)?;
         work.set(0.0)?;
-        let its = self.ksp.solve(&self.rhs, work)?;
-        self.exact_dirichlet(work, 0.0)?;
+        let its = self.full_solve(true, work)?;
+        if self.iterative {
+            work.write(|u| {
+                for &(i, _) in &self.dirichlet {
+                    u[i] = 0.0;
+                }
+            })?;
+        }
         extract(surface, work, uc)?;
         Ok(its)
     }
@@ -233,15 +303,14 @@ impl LinearSolver {
         uc: &[f64],
         u: &Vector,
     ) -> Result<(), Error> {
-        if self.condensed.is_none() {
+        if self.y0.is_none() {
             return Ok(());
         }
         let cc = self.corrected(surface, c, uc);
         self.rhs.copy_from(&self.rhs0)?;
         scatter_add(surface, &cc, &self.rhs)?;
-        self.solves += 1;
-        self.ksp.solve(&self.rhs, u)?;
-        self.exact_dirichlet(u, 1.0)
+        self.full_solve(true, u)?;
+        Ok(())
     }
 
     /// The whole displacements for several contact loads at once (one pass
@@ -274,7 +343,14 @@ impl LinearSolver {
             })
         })??;
         self.solves += cols.len();
-        self.ksp.mat_solve(&b, &x)?;
+        match &mut self.engine {
+            Engine::Ksp(ksp) => ksp.mat_solve(&b, &x)?,
+            Engine::Direct(dd) => {
+                let mut all = b.read(|bb| bb.to_vec())?;
+                dd.solve_full(&self.world, &mut all, cols.len())?;
+                x.write(|xx| xx.copy_from_slice(&all))?;
+            }
+        }
         Ok(x)
     }
 
@@ -297,45 +373,43 @@ impl LinearSolver {
         }
         let d = surface.dim;
         let m = surface.len() * d;
-        if let Some(cd) = &mut self.condensed {
+        let cs = surface.cs;
+        if let (Some((y0a, _)), Engine::Direct(dd)) = (&self.y0, &mut self.engine) {
             let delta = r_new - self.r_assembled;
-            // S_r' = S_r_a + delta M (M on the unknowns without Dirichlet data).
-            let mut s = cd.s0.clone();
-            let mut e = vec![0.0; m];
-            let mut col = vec![0.0; m];
-            for j in 0..m {
-                e[j] = 1.0;
-                surface.apply_contact_block(&e, &mut col);
-                e[j] = 0.0;
-                for i in 0..m {
-                    if !surface.dirichlet[j] {
-                        s[j * m + i] += delta * col[i];
+            // S_r' = S_r_a + delta M (M on the Schur components without
+            // Dirichlet data).
+            let nk = self.comps.len();
+            let mut blocks = Vec::with_capacity(surface.len() * nk * nk);
+            for (i, &w) in cs.w.iter().enumerate() {
+                let b = super::contact_block(d, &cs.n, w, surface.tangential);
+                for &a in &self.comps {
+                    for &c in &self.comps {
+                        let keep = !surface.dirichlet[i * d + a] && !surface.dirichlet[i * d + c];
+                        blocks.push(if keep { b[a * d + c] } else { 0.0 });
                     }
                 }
             }
+            dd.shift_schur(&self.world, delta, &blocks, nk)?;
             // y0 at r': S_r' y0' = S_r_a y0 - delta M_FD x_D.
-            let mut b = vec![0.0; m];
-            for j in 0..m {
-                let y = cd.y0_assembled[j];
-                if y != 0.0 {
-                    for (bi, sij) in b.iter_mut().zip(&cd.s0[j * m..(j + 1) * m]) {
-                        *bi += sij * y;
-                    }
-                }
-            }
+            let mut b = vec![0.0; y0a.len()];
+            dd.apply_schur(&self.world, y0a, &mut b);
+            let mut col = vec![0.0; m];
             surface.apply_contact_block(&self.xd_c, &mut col);
-            for i in 0..m {
-                b[i] -= delta * col[i];
+            let col: Vec<f64> = col
+                .chunks_exact(d)
+                .flat_map(|x| self.comps.iter().map(move |&c| x[c]))
+                .collect();
+            for (bi, ci) in b.iter_mut().zip(&col) {
+                *bi -= delta * ci;
             }
-            let shifted = DenseSpd::factor(m, &s)?;
-            shifted.solve(&b, &mut cd.y0)?;
-            cd.shifted = Some(shifted);
+            let mut y0 = vec![0.0; b.len()];
+            dd.solve_schur(&self.world, &b, &mut y0)?;
+            self.y0.as_mut().expect("condensed").1 = y0;
             self.r = r_new;
             return Ok(());
         }
         // Full: the matrix's contact blocks and the lifted load change.
         let delta = r_new - self.r;
-        let cs = surface.cs;
         let mut idx = Vec::with_capacity(d);
         let mut col = vec![0.0; m];
         for (i, &v) in cs.node.iter().enumerate() {
@@ -355,12 +429,17 @@ impl LinearSolver {
         surface.apply_contact_block(&self.xd_c, &mut col);
         col.iter_mut().for_each(|x| *x *= -delta);
         scatter_add(surface, &col, &self.rhs0)?;
-        if self.iterative {
-            self.ksp.set_reuse_preconditioner(true)?;
-        }
-        self.ksp.set_operators(&self.matrix)?;
-        if !self.iterative {
-            self.ksp.set_up()?; // the numeric factorization at r'
+        match &mut self.engine {
+            Engine::Ksp(ksp) => {
+                if self.iterative {
+                    ksp.set_reuse_preconditioner(true)?;
+                }
+                ksp.set_operators(&self.matrix)?;
+                if !self.iterative {
+                    ksp.set_up()?; // the numeric factorization at r'
+                }
+            }
+            Engine::Direct(dd) => dd.refactorize(&self.world, &self.matrix)?,
         }
         self.r = r_new;
         self.r_assembled = r_new;

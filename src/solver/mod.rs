@@ -9,6 +9,7 @@ pub mod anderson;
 pub mod cf_fp;
 pub mod checks;
 pub mod deferred;
+pub mod direct;
 pub mod linear;
 pub mod outcome;
 pub mod penalty;
@@ -19,7 +20,7 @@ pub mod surface;
 pub mod ubr;
 pub mod wellposed;
 
-use linear::LinearSolver;
+use linear::{Engine, LinearSolver};
 use surface::Surface;
 
 use crate::contact::ContactSet;
@@ -124,11 +125,17 @@ impl Problem {
 }
 
 /// Default largest number of contact unknowns for the condensed back-end,
-/// in 2D and 3D. Measured on one rank: hertz_37473 (658 unknowns) 2.2 ->
-/// 0.8 s; the 3D contact face is large against the factorization, which the
-/// Schur complement then slows more than it saves (block3d_2357, 786
-/// unknowns: 0.26 -> 0.32 s; block3d_10761, 2286: 3.0 -> 4.1 s).
-pub const CONDENSE_MAX: [usize; 2] = [2000, 0];
+/// in 2D and 3D (MUMPS called directly: METIS ordering, the Schur unknowns
+/// last, u_n alone when frictionless along an axis). Measured on one rank,
+/// factorization + r choice + iterations, full against condensed: 2D
+/// hertz_37473 (329 unknowns) 2.2 -> 0.7 s; 3D block3d_2357 (262) 0.14 ->
+/// 0.13 s, block3d_10761 (762) 2.00 -> 1.48 s, block3d_17887 (1042) 7.1 ->
+/// 4.8 s, a generated 83,300-node block (2380) 58.1 -> 48.0 s; Coulomb
+/// (every component) block3d_10761 (2286) 5.6 -> 3.1 s, block3d_17887
+/// (3126) 10.6 -> 6.5 s. Above a few thousand unknowns the dense m^3/3 of
+/// the Schur block (on rank 0) grows past what 20-130 iterations save; in 2D
+/// the sparse solves are cheap and the break-even comes sooner.
+pub const CONDENSE_MAX: [usize; 2] = [2000, 4000];
 
 /// The UBR matrix block `r w (n n^T)` (frictionless) or `r w I` (with friction) of one node.
 pub fn contact_block(dim: usize, n: &[f64], rw: f64, tangential: bool) -> Vec<f64> {
@@ -322,35 +329,55 @@ impl Problem {
 
         let t1 = std::time::Instant::now();
         let guard = stages.factorization.push()?;
-        let (ksp, description, iterative) = linear_solver(&a, mesh)?;
-        let schur_size = contact.len() * d;
+        // The Schur components of a candidate: the normal axis alone when
+        // frictionless along an axis (u_n is then a dof), else all; and the
+        // contact unknowns in all (the same decision on every rank).
+        let axis = (0..d).find(|&c| contact.n[c].abs() == 1.0);
+        let comps: Vec<usize> = match axis {
+            Some(a) if !tangential => vec![a],
+            _ => (0..d).collect(),
+        };
+        let schur_size = allreduce_count(world, contact.len()) * comps.len();
         // Not when the paper's change (4.16)/(5.6) of every iteration is wanted.
         let every_change = settings.ubr.stop == stopping::StopRule::Paper
             && (settings.ubr.monitor || settings.plot_history.is_some());
-        let condense = terms != ContactTerms::None
+        // MUMPS driven directly for UBR's default solver (a Cholesky
+        // factorization by MUMPS), PETSc's KSP otherwise.
+        let pc = options::get_string("-pc_type")?;
+        let ksp_type = options::get_string("-ksp_type")?;
+        let solver_type = options::get_string("-pc_factor_mat_solver_type")?;
+        let direct = terms != ContactTerms::None
+            && settings.ubr.mumps_direct
+            && matches!(pc.as_deref(), None | Some("cholesky") | Some("lu"))
+            && matches!(ksp_type.as_deref(), None | Some("preonly"))
+            && matches!(solver_type.as_deref(), None | Some("mumps"));
+        let condense = direct
             && !every_change
-            && world.size() == 1
-            && !iterative
             && schur_size > 0
-            && schur_size <= settings.ubr.condense_max.unwrap_or(CONDENSE_MAX[d - 2])
-            && matches!(ksp.pc_type()?.as_str(), "cholesky" | "lu")
-            && options::get_string("-pc_factor_mat_solver_type")?.as_deref() == Some("mumps");
-        if condense {
-            let unknowns: Vec<sys::PetscInt> = contact
-                .node
-                .iter()
-                .flat_map(|&v| {
-                    (0..d).map(move |c| ((mesh.owned_start + v) * d + c) as sys::PetscInt)
-                })
-                .collect();
-            ksp.request_schur(&unknowns)?;
-        }
-        if terms != ContactTerms::None {
-            ksp.set_up()?; // the one factorization of UBR
-        }
+            && schur_size <= settings.ubr.condense_max.unwrap_or(CONDENSE_MAX[d - 2]);
+        let (engine, description, iterative) = if direct {
+            let surface = Surface {
+                cs: &contact,
+                dim: d,
+                tangential,
+                dirichlet: &contact_dirichlet,
+            };
+            let dm = direct::Direct::new(world, &a, mesh, &surface, condense, &comps)?;
+            let description = format!(
+                "MUMPS Cholesky, called directly ({}; {:.3e} flops)",
+                dm.ordering, dm.flops
+            );
+            (Engine::Direct(Box::new(dm)), description, false)
+        } else {
+            let (ksp, description, iterative) = linear_solver(&a, mesh)?;
+            if terms != ContactTerms::None {
+                ksp.set_up()?; // the one factorization of UBR
+            }
+            (Engine::Ksp(ksp), description, iterative)
+        };
         let adaptive_inner = iterative && !options::has_name("-ksp_rtol")?;
         let lin = LinearSolver::new(
-            ksp,
+            engine,
             a,
             rhs0,
             iterative,
@@ -359,6 +386,7 @@ impl Problem {
             r,
             xd_c,
             dir.clone(),
+            d,
         )?;
         let mut problem = Problem {
             dim: d,
@@ -391,7 +419,7 @@ impl Problem {
                 tangential,
                 dirichlet: contact_dirichlet,
             };
-            lin.condense(&surface, &work)?;
+            lin.condense(&surface, &work, &comps)?;
         }
         drop(guard);
         problem.time_factorization = t1.elapsed().as_secs_f64();

@@ -137,10 +137,12 @@ struct Sums {
     f2: f64,
     /// Statuses changed since the previous evaluation.
     changes: f64,
+    /// The contact nodes' part of `||u^k - u^{k-1}||^2` (condensed solves).
+    dc2: f64,
 }
 
 impl Sums {
-    fn to_array(self) -> [f64; 11] {
+    fn to_array(self) -> [f64; 12] {
         [
             self.du2,
             self.u2,
@@ -153,9 +155,10 @@ impl Sums {
             self.lam2,
             self.f2,
             self.changes,
+            self.dc2,
         ]
     }
-    fn from_array(a: [f64; 11]) -> Sums {
+    fn from_array(a: [f64; 12]) -> Sums {
         Sums {
             du2: a[0],
             u2: a[1],
@@ -168,6 +171,7 @@ impl Sums {
             lam2: a[8],
             f2: a[9],
             changes: a[10],
+            dc2: a[11],
         }
     }
 }
@@ -294,6 +298,7 @@ pub fn ubr<C: Communicator>(
     let mut drifting = 0usize;
     let mut drift_stress = 0.0f64;
     let cold = std::mem::replace(&mut state.cold, false);
+    let was_condensed = lin.is_condensed();
     let mut last = Sums::default();
     // A zero bound everywhere (a frictionless solve through UBR-TF).
     let no_friction = friction_bound.is_some_and(|b| {
@@ -332,12 +337,11 @@ pub fn ubr<C: Communicator>(
         };
         // The paper's change of u: a full solve knows it now; a condensed
         // one, its part at the contact nodes (the candidates decide the rest).
-        let mut dc2 = 0.0;
         if lin.is_condensed() {
             for (i, &v) in cs.node.iter().enumerate() {
                 let m = lumped_mass[v];
                 for cc in 0..d {
-                    dc2 += m * (uc[i * d + cc] - uc_prev[i * d + cc]).powi(2);
+                    sums.dc2 += m * (uc[i * d + cc] - uc_prev[i * d + cc]).powi(2);
                 }
             }
         } else {
@@ -615,7 +619,7 @@ pub fn ubr<C: Communicator>(
                         others_ok,
                         dphi2: sums.dphi2,
                         phi2: sums.phi2,
-                        dc2,
+                        dc2: sums.dc2,
                         c: c.clone(),
                         c_prev: c_prev.clone(),
                         uc: uc.clone(),
@@ -719,6 +723,19 @@ pub fn ubr<C: Communicator>(
         })??;
         let [du2, u2] = allreduce_sum(world, [du2, u2]);
         out.criterion = paper_change(du2, last.dphi2, u2, last.phi2);
+    }
+    if was_condensed {
+        // A condensed solve knew u at the Schur components only: u_t of the
+        // candidates from the whole displacement now known.
+        let st = &mut state.surface;
+        state.u.read(|u| {
+            for (i, &v) in cs.node.iter().enumerate() {
+                let un = surface.normal(&u[v * d..(v + 1) * d], 0);
+                let mut ut = [0.0; 3];
+                surface.tangential_part(&u[v * d..(v + 1) * d], 0, un, &mut ut);
+                st.ut[i * d..(i + 1) * d].copy_from_slice(&ut[..d]);
+            }
+        })?;
     }
     if !out.converged {
         out.failure = Some(failure(name, ctl, &out, r, &acc));

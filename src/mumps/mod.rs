@@ -1,0 +1,284 @@
+//! MUMPS 5.5 through its own C interface (`dmumps_c`), where PETSc's
+//! wrapper stops: a user ordering (METIS nested dissection as PERM_IN), and
+//! the Schur complement on any number of ranks (centralized on the host).
+//!
+//! [`Mumps`] owns one MUMPS instance (JOB = -1 on creation, -2 on drop) and
+//! the arrays it points into. Every call is checked: a negative INFOG(1)
+//! becomes an [`Error`] with MUMPS' code and its meaning.
+
+#[allow(
+    non_camel_case_types,
+    non_snake_case,
+    non_upper_case_globals,
+    dead_code,
+    clippy::all
+)]
+pub mod sys {
+    include!(concat!(env!("OUT_DIR"), "/mumps_sys.rs"));
+}
+
+use crate::error::Error;
+
+/// ICNTL(i), INFOG(i), ... are 1-based in MUMPS' manual.
+macro_rules! icntl {
+    ($id:expr, $i:expr) => {
+        $id.icntl[$i - 1]
+    };
+}
+
+/// What a negative INFOG(1) means (MUMPS 5.5 user guide, section 8).
+fn meaning(code: i32, info2: i32) -> String {
+    match code {
+        -1 => format!("an error on rank {info2}"),
+        -2 => format!("NNZ out of range ({info2})"),
+        -3 => "called with an invalid JOB".to_string(),
+        -5 | -7 | -13 => format!("could not allocate memory ({info2})"),
+        -6 => format!("the matrix is structurally singular (rank {info2})"),
+        -8 | -9 | -14 | -15 | -11 | -12 => {
+            format!("the work space is too small ({info2}); raise ICNTL(14)")
+        }
+        -10 => format!("the matrix is numerically singular ({info2} pivots)"),
+        -16 => format!("N out of range ({info2})"),
+        -17 | -20 => "the right-hand side buffer is too small".to_string(),
+        -22 => format!("an array is not allocated or too small (argument {info2})"),
+        -40 => "the matrix was declared positive definite but a negative pivot was met".to_string(),
+        _ => format!("INFO(2) = {info2}"),
+    }
+}
+
+/// One MUMPS instance on a communicator.
+pub struct Mumps {
+    id: Box<sys::DMUMPS_STRUC_C>,
+    pub host: bool,
+    // The arrays MUMPS points into (kept alive and unmoved while it may read them).
+    irn: Vec<i32>,
+    jcn: Vec<i32>,
+    a: Vec<f64>,
+    perm_in: Vec<i32>,
+    listvar: Vec<i32>,
+    schur: Vec<f64>,
+    rhs: Vec<f64>,
+    redrhs: Vec<f64>,
+}
+
+impl Drop for Mumps {
+    fn drop(&mut self) {
+        self.id.job = -2;
+        unsafe { sys::dmumps_c(&mut *self.id) };
+    }
+}
+
+impl Mumps {
+    /// A MUMPS instance on `comm` (JOB = -1), symmetric positive definite
+    /// (`spd`, SYM = 1) or general symmetric (SYM = 2), the host working
+    /// (PAR = 1), silent.
+    pub fn new(comm: mpi::ffi::MPI_Comm, rank: i32, spd: bool) -> Result<Mumps, Error> {
+        let mut id: Box<sys::DMUMPS_STRUC_C> = Box::new(unsafe { std::mem::zeroed() });
+        id.sym = if spd { 1 } else { 2 };
+        id.par = 1;
+        id.job = -1;
+        id.comm_fortran = unsafe { mpi::ffi::MPI_Comm_c2f(comm) };
+        unsafe { sys::dmumps_c(&mut *id) };
+        let mut m = Mumps {
+            id,
+            host: rank == 0,
+            irn: Vec::new(),
+            jcn: Vec::new(),
+            a: Vec::new(),
+            perm_in: Vec::new(),
+            listvar: Vec::new(),
+            schur: Vec::new(),
+            rhs: Vec::new(),
+            redrhs: Vec::new(),
+        };
+        m.check("initialization")?;
+        // No output (ICNTL(1..3) streams off, ICNTL(4) level 0).
+        icntl!(m.id, 1) = -1;
+        icntl!(m.id, 2) = -1;
+        icntl!(m.id, 3) = -1;
+        icntl!(m.id, 4) = 0;
+        Ok(m)
+    }
+
+    fn check(&self, phase: &str) -> Result<(), Error> {
+        let code = self.id.infog[0];
+        if code < 0 {
+            return Err(Error::LinearSolver(format!(
+                "MUMPS {phase} failed: INFOG(1) = {code}, {}",
+                meaning(code, self.id.infog[1])
+            )));
+        }
+        Ok(())
+    }
+
+    /// INFOG(1) of the last call.
+    pub fn infog1(&self) -> i32 {
+        self.id.infog[0]
+    }
+
+    /// Sets ICNTL(i) (1-based).
+    pub fn set_icntl(&mut self, i: usize, v: i32) {
+        self.id.icntl[i - 1] = v;
+    }
+
+    pub fn icntl(&self, i: usize) -> i32 {
+        self.id.icntl[i - 1]
+    }
+
+    /// RINFOG(i) (1-based): e.g. 1 the flops of the elimination... (3: of the factorization).
+    pub fn rinfog(&self, i: usize) -> f64 {
+        self.id.rinfog[i - 1]
+    }
+
+    /// INFOG(i) (1-based).
+    pub fn infog(&self, i: usize) -> i32 {
+        self.id.infog[i - 1]
+    }
+
+    /// The distributed assembled matrix (ICNTL(18) = 3, ICNTL(5) = 0): this
+    /// rank's entries, 1-based, one triangle for a symmetric matrix
+    /// (duplicates are summed); `n` the global order.
+    pub fn set_matrix(&mut self, n: usize, irn: Vec<i32>, jcn: Vec<i32>, a: Vec<f64>) {
+        assert!(irn.len() == jcn.len() && jcn.len() == a.len());
+        self.irn = irn;
+        self.jcn = jcn;
+        self.a = a;
+        icntl!(self.id, 5) = 0;
+        icntl!(self.id, 18) = 3;
+        self.id.n = n as i32;
+        self.id.nnz_loc = self.a.len() as i64;
+        self.id.nz_loc = self.a.len() as i32;
+        self.id.irn_loc = self.irn.as_mut_ptr();
+        self.id.jcn_loc = self.jcn.as_mut_ptr();
+        self.id.a_loc = self.a.as_mut_ptr();
+    }
+
+    /// New values of the same entries (a refactorization).
+    pub fn values_mut(&mut self) -> &mut [f64] {
+        &mut self.a
+    }
+
+    /// The pivot order on the host: `perm_in[i]` is the position (1-based)
+    /// of variable i + 1 (ICNTL(7) = 1, with the sequential analysis,
+    /// ICNTL(28) = 1). Ignored on the other ranks.
+    pub fn set_ordering(&mut self, perm_in: Vec<i32>) {
+        icntl!(self.id, 7) = 1;
+        icntl!(self.id, 28) = 1;
+        self.perm_in = perm_in;
+        if self.host {
+            self.id.perm_in = self.perm_in.as_mut_ptr();
+        }
+    }
+
+    /// Asks for the Schur complement on the variables `listvar` (1-based;
+    /// on the host), returned centralized on the host by rows (ICNTL(19) = 1;
+    /// for a symmetric matrix its lower triangle).
+    pub fn set_schur(&mut self, size: usize, listvar: Vec<i32>) {
+        icntl!(self.id, 19) = 1;
+        self.id.size_schur = size as i32;
+        if self.host {
+            assert_eq!(listvar.len(), size);
+            self.listvar = listvar;
+            self.schur = vec![0.0; size * size];
+            self.id.listvar_schur = self.listvar.as_mut_ptr();
+            self.id.schur = self.schur.as_mut_ptr();
+            self.id.schur_lld = size as i32;
+        }
+    }
+
+    /// The Schur complement (host), whole (mirrored from its lower
+    /// triangle), column-major.
+    pub fn schur(&self) -> Vec<f64> {
+        let m = self.id.size_schur as usize;
+        let mut s = vec![0.0; m * m];
+        for i in 0..m {
+            for j in 0..=i {
+                // by rows: entry (i, j), j <= i, at i * m + j
+                let v = self.schur[i * m + j];
+                s[j * m + i] = v;
+                s[i * m + j] = v;
+            }
+        }
+        s
+    }
+
+    fn run(&mut self, job: i32, phase: &str) -> Result<(), Error> {
+        self.id.job = job;
+        unsafe { sys::dmumps_c(&mut *self.id) };
+        self.check(phase)
+    }
+
+    /// Analysis (JOB = 1).
+    pub fn analyse(&mut self) -> Result<(), Error> {
+        self.run(1, "analysis")
+    }
+
+    /// Numerical factorization (JOB = 2). A work space found too small is
+    /// enlarged (ICNTL(14) doubled) and the factorization redone, up to 3
+    /// times.
+    pub fn factorize(&mut self) -> Result<(), Error> {
+        for _ in 0..3 {
+            self.id.job = 2;
+            unsafe { sys::dmumps_c(&mut *self.id) };
+            let code = self.id.infog[0];
+            if matches!(code, -8 | -9 | -14 | -15 | -11 | -12) {
+                let cur = icntl!(self.id, 14).max(20);
+                icntl!(self.id, 14) = 2 * cur;
+                continue;
+            }
+            break;
+        }
+        let code = self.id.infog[0];
+        if code == -10 || code == -6 || code == -40 {
+            // A singular operator is a property of the scene: name it.
+            return Err(Error::IllPosed(format!(
+                "the stiffness matrix is singular (MUMPS INFOG(1) = {code}: {}): a part of the mesh can move without deforming and nothing holds it (a mechanism, such as parts joined at a single node, or a rigid motion); check the mesh's connectivity and the Dirichlet conditions",
+                meaning(code, self.id.infog[1])
+            )));
+        }
+        self.check("factorization")
+    }
+
+    /// Solve (JOB = 3) with the centralized dense right-hand sides `rhs`
+    /// (host; `nrhs` columns of length n, column-major), overwritten by the
+    /// solutions; `schur_phase`: ICNTL(26) (0: no Schur complement; 1: the
+    /// condensation, which leaves the reduced right-hand sides in
+    /// [`Mumps::redrhs`]; 2: the expansion from the Schur solutions written
+    /// there).
+    pub fn solve(
+        &mut self,
+        rhs: &mut Vec<f64>,
+        nrhs: usize,
+        schur_phase: i32,
+    ) -> Result<(), Error> {
+        let n = self.id.n as usize;
+        icntl!(self.id, 20) = 0;
+        icntl!(self.id, 21) = 0;
+        icntl!(self.id, 26) = schur_phase;
+        std::mem::swap(&mut self.rhs, rhs);
+        if self.host {
+            assert_eq!(self.rhs.len(), n * nrhs);
+            self.id.rhs = self.rhs.as_mut_ptr();
+            self.id.nrhs = nrhs as i32;
+            self.id.lrhs = n as i32;
+            if schur_phase != 0 {
+                let m = self.id.size_schur as usize;
+                if self.redrhs.len() != m * nrhs {
+                    self.redrhs.resize(m * nrhs, 0.0);
+                }
+                self.id.redrhs = self.redrhs.as_mut_ptr();
+                self.id.lredrhs = m as i32;
+            }
+        }
+        let r = self.run(3, "solve");
+        std::mem::swap(&mut self.rhs, rhs);
+        icntl!(self.id, 26) = 0;
+        r
+    }
+
+    /// The reduced right-hand sides / Schur solutions (host), `nrhs`
+    /// columns of the Schur complement's order.
+    pub fn redrhs_mut(&mut self) -> &mut [f64] {
+        &mut self.redrhs
+    }
+}

@@ -1,0 +1,546 @@
+//! The direct back-end on MUMPS itself (`-pc_type cholesky|lu
+//! -pc_factor_mat_solver_type mumps`, the default): what PETSc 3.18's
+//! wrapper cannot do, a METIS nested-dissection ordering (Debian's MUMPS has
+//! no METIS; PETSc refuses a user ordering) and the Schur complement on the
+//! contact unknowns on any number of ranks (PETSc: one rank only).
+//!
+//! - Input: each rank's rows of the assembled `K_r` (its lower triangle),
+//!   distributed assembled format (ICNTL(18) = 3), SYM = 1.
+//! - Ordering: METIS_NodeND on the nodal graph (the mesh's, gathered on the
+//!   host) of the nodes that are not contact candidates, each node's dofs
+//!   together, the contact unknowns last; given as PERM_IN (ICNTL(7) = 1,
+//!   sequential analysis ICNTL(28) = 1).
+//! - Schur complement (when condensing): on the contact unknowns (candidate
+//!   by candidate, rank by rank), centralized on the host (ICNTL(19) = 1),
+//!   factorized there by LAPACK. A full solve is then a condensation
+//!   (ICNTL(26) = 1), a dense solve with S, an expansion (ICNTL(26) = 2).
+//!   A condensed UBR solve gathers the m contact values of the right-hand
+//!   side on the host, solves with S there and scatters the result back.
+//! - Right-hand sides and solutions are centralized on the host (ICNTL(20) =
+//!   ICNTL(21) = 0) and moved by one gather and one scatter.
+//!
+//! The usual `-mat_mumps_icntl_N` / `-mat_mumps_cntl_N` options are passed
+//! on, except those this back-end sets: 5, 18 (input format), 19, 26 (Schur),
+//! 20, 21 (centralized right-hand sides), and 7, 28 (the METIS ordering;
+//! `-mat_mumps_icntl_7 K` with K other than 1 selects MUMPS' own ordering K).
+
+use super::surface::Surface;
+use crate::error::Error;
+use crate::mesh::distribute::LocalMesh;
+use crate::mumps::Mumps;
+use crate::petsc::{options, DenseSpd, LogEvent, Matrix};
+use mpi::datatype::{Partition, PartitionMut};
+use mpi::traits::*;
+
+/// ICNTL entries this back-end sets itself.
+const OWNED_ICNTL: [usize; 6] = [5, 18, 19, 20, 21, 26];
+
+/// The per-rank layout of a distributed array gathered on the host.
+struct Layout {
+    counts: Vec<i32>,
+    displs: Vec<i32>,
+}
+
+impl Layout {
+    fn new<C: Communicator>(world: &C, local: usize) -> Layout {
+        let mut counts = vec![0i32; world.size() as usize];
+        world.all_gather_into(&(local as i32), &mut counts[..]);
+        let displs = counts
+            .iter()
+            .scan(0i32, |acc, &c| {
+                let s = *acc;
+                *acc += c;
+                Some(s)
+            })
+            .collect();
+        Layout { counts, displs }
+    }
+
+    fn total(&self) -> usize {
+        self.counts.iter().map(|&c| c as usize).sum()
+    }
+
+    /// `local` of every rank, in rank order, on the host (empty elsewhere).
+    fn gather<C: Communicator>(&self, world: &C, local: &[f64]) -> Vec<f64> {
+        let root = world.process_at_rank(0);
+        if world.rank() == 0 {
+            let mut all = vec![0.0; self.total()];
+            let mut part = PartitionMut::new(&mut all[..], &self.counts[..], &self.displs[..]);
+            root.gather_varcount_into_root(local, &mut part);
+            all
+        } else {
+            root.gather_varcount_into(local);
+            Vec::new()
+        }
+    }
+
+    /// The host's `all` back to the ranks, each its part into `local`.
+    fn scatter<C: Communicator>(&self, world: &C, all: &[f64], local: &mut [f64]) {
+        let root = world.process_at_rank(0);
+        if world.rank() == 0 {
+            let part = Partition::new(all, &self.counts[..], &self.displs[..]);
+            root.scatter_varcount_into_root(&part, local);
+        } else {
+            root.scatter_varcount_into(local);
+        }
+    }
+}
+
+/// The contact part: the Schur complement on the host.
+struct SchurPart {
+    m: usize,
+    layout: Layout,
+    /// Host: S at the assembled r (unfactored, column-major) and factorized,
+    /// and S at the current r when it differs.
+    s_raw: Vec<f64>,
+    s: Option<DenseSpd>,
+    shifted: Option<DenseSpd>,
+}
+
+/// MUMPS on the assembled matrix, with or without the Schur complement.
+pub struct Direct {
+    mumps: Mumps,
+    /// `-log_view` events: MUMPS' numeric factorization and solves, and the
+    /// dense Schur solves on the host.
+    ev_factor: LogEvent,
+    ev_solve: LogEvent,
+    ev_schur: LogEvent,
+    /// Numeric factorizations so far.
+    pub factorizations: usize,
+    dofs: Layout,
+    schur: Option<SchurPart>,
+    /// Flops of the factorization (RINFOG(3)) and the ordering used.
+    pub flops: f64,
+    pub ordering: String,
+}
+
+/// This rank's lower-triangle entries of `a` (1-based) and its row counts.
+/// Rows, columns (1-based) and values of matrix entries.
+type Triplets = (Vec<i32>, Vec<i32>, Vec<f64>);
+
+fn lower_triplets(a: &Matrix) -> Result<Triplets, Error> {
+    let (mut irn, mut jcn, mut val) = (Vec::new(), Vec::new(), Vec::new());
+    a.for_each_owned_row(|row, cols, vals| {
+        for (&c, &v) in cols.iter().zip(vals) {
+            if c as usize <= row {
+                irn.push(row as i32 + 1);
+                jcn.push(c + 1);
+                val.push(v);
+            }
+        }
+    })?;
+    Ok((irn, jcn, val))
+}
+
+/// PERM_IN on the host (empty elsewhere): METIS nested dissection of the
+/// nodal graph, each node's `d` dofs in a row, except the Schur unknowns
+/// (components `comps` of the nodes `schur_nodes`, in that order), last.
+fn metis_order<C: Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    schur_nodes: &[usize],
+    comps: &[usize],
+) -> Result<Vec<i32>, Error> {
+    let d = mesh.dim;
+    // Each owned node's neighbours (global numbers), gathered on the host.
+    let mut adj: Vec<Vec<usize>> = vec![Vec::new(); mesh.owned_count];
+    for cell in &mesh.cells {
+        for &a in cell {
+            if a < mesh.owned_count {
+                adj[a].extend(
+                    cell.iter()
+                        .filter(|&&b| b != a)
+                        .map(|&b| mesh.node_global[b]),
+                );
+            }
+        }
+    }
+    let mut flat: Vec<f64> = Vec::new(); // node, count, neighbours... (exact in f64)
+    for (a, list) in adj.iter_mut().enumerate() {
+        list.sort_unstable();
+        list.dedup();
+        flat.push(mesh.node_global[a] as f64);
+        flat.push(list.len() as f64);
+        flat.extend(list.iter().map(|&b| b as f64));
+    }
+    let layout = Layout::new(world, flat.len());
+    let all = layout.gather(world, &flat);
+    if world.rank() != 0 {
+        return Ok(Vec::new());
+    }
+    let n = mesh.global_nodes;
+    let mut xadj: Vec<i32> = vec![0; n + 1];
+    let mut lists: Vec<Vec<i32>> = vec![Vec::new(); n];
+    let mut p = 0;
+    while p < all.len() {
+        let (g, k) = (all[p] as usize, all[p + 1] as usize);
+        lists[g] = all[p + 2..p + 2 + k].iter().map(|&x| x as i32).collect();
+        p += 2 + k;
+    }
+    let mut adjncy: Vec<i32> = Vec::new();
+    for (g, l) in lists.iter().enumerate() {
+        adjncy.extend_from_slice(l);
+        xadj[g + 1] = adjncy.len() as i32;
+    }
+    drop(lists);
+    let mut perm = vec![0i32; n];
+    let mut iperm = vec![0i32; n];
+    if n > 0 {
+        let mut nvtxs = n as i32;
+        let mut options = [0i32; metis_sys::METIS_NOPTIONS as usize];
+        unsafe {
+            metis_sys::METIS_SetDefaultOptions(options.as_mut_ptr());
+            let r = metis_sys::METIS_NodeND(
+                &mut nvtxs,
+                xadj.as_mut_ptr(),
+                adjncy.as_mut_ptr(),
+                std::ptr::null_mut(),
+                options.as_mut_ptr(),
+                perm.as_mut_ptr(),
+                iperm.as_mut_ptr(),
+            );
+            if r != metis_sys::rstatus_et_METIS_OK {
+                return Err(Error::Internal(format!("METIS_NodeND failed ({r})")));
+            }
+        }
+    }
+    let mut in_schur = vec![false; n * d];
+    for &g in schur_nodes {
+        for &c in comps {
+            in_schur[g * d + c] = true;
+        }
+    }
+    let mut perm_in = vec![0i32; n * d];
+    let mut next = 0i32;
+    for &g in &perm {
+        let g = g as usize;
+        for c in 0..d {
+            if !in_schur[g * d + c] {
+                next += 1;
+                perm_in[g * d + c] = next;
+            }
+        }
+    }
+    for &g in schur_nodes {
+        for &c in comps {
+            next += 1;
+            perm_in[g * d + c] = next;
+        }
+    }
+    Ok(perm_in)
+}
+
+impl Direct {
+    /// Analyses and factorizes `a` (the assembled `K_r`), with the Schur
+    /// complement on the contact unknowns when `condense`.
+    /// `comps`: the components of each candidate in the Schur complement
+    /// (the normal axis alone when frictionless along an axis).
+    pub fn new<C: Communicator>(
+        world: &C,
+        a: &Matrix,
+        mesh: &LocalMesh,
+        surface: &Surface,
+        condense: bool,
+        comps: &[usize],
+    ) -> Result<Direct, Error> {
+        let d = mesh.dim;
+        let n = mesh.global_nodes * d;
+        let (irn, jcn, val) = lower_triplets(a)?;
+        let mut mumps = Mumps::new(crate::petsc::comm_world(), world.rank(), true)?;
+        mumps.set_matrix(n, irn, jcn, val);
+        // The user's MUMPS options, but those this back-end sets.
+        for i in 1..=60usize {
+            if OWNED_ICNTL.contains(&i) {
+                continue;
+            }
+            if let Some(v) = options::get_string(&format!("-mat_mumps_icntl_{i}"))? {
+                let v: i32 = v.trim().parse().map_err(|_| {
+                    Error::BadInput(format!(
+                        "option -mat_mumps_icntl_{i}: '{v}' is not an integer"
+                    ))
+                })?;
+                mumps.set_icntl(i, v);
+            }
+        }
+        // The contact nodes (global numbers), in the Schur order: rank by
+        // rank, candidate by candidate.
+        let mine: Vec<f64> = surface
+            .cs
+            .node
+            .iter()
+            .map(|&v| mesh.node_global[v] as f64)
+            .collect();
+        let layout = Layout::new(world, mine.len());
+        let contact_global: Vec<usize> = layout
+            .gather(world, &mine)
+            .iter()
+            .map(|&x| x as usize)
+            .collect();
+        let user_ordering = options::get_string("-mat_mumps_icntl_7")?
+            .map(|v| v.trim().to_string())
+            .filter(|v| v != "1");
+        let ordering = match &user_ordering {
+            Some(k) => {
+                mumps.set_icntl(7, k.parse().unwrap_or(0));
+                format!("MUMPS ordering ICNTL(7) = {k}")
+            }
+            None => {
+                let schur_nodes: &[usize] = if condense { &contact_global } else { &[] };
+                let perm_in = metis_order(world, mesh, schur_nodes, comps)?;
+                mumps.set_ordering(perm_in);
+                "METIS nested dissection".to_string()
+            }
+        };
+        let m = layout.total() * comps.len();
+        let dof_layout = Layout::new(world, mesh.owned_count * d);
+        if condense {
+            let listvar: Vec<i32> = contact_global
+                .iter()
+                .flat_map(|&g| comps.iter().map(move |&c| (g * d + c + 1) as i32))
+                .collect();
+            mumps.set_schur(m, listvar);
+        }
+        let ev_factor = LogEvent::register("MUMPSFactorNum")?;
+        let ev_solve = LogEvent::register("MUMPSSolve")?;
+        let ev_schur = LogEvent::register("SchurSolve")?;
+        {
+            let _e = LogEvent::register("MUMPSAnalysis")?.begin();
+            mumps.analyse()?;
+        }
+        {
+            let _e = ev_factor.begin();
+            mumps.factorize()?;
+        }
+        let flops = mumps.rinfog(3);
+        let schur = if condense {
+            let (mut s_raw, mut s) = (Vec::new(), None);
+            let mut status = 0.0f64;
+            if world.rank() == 0 {
+                s_raw = mumps.schur();
+                match DenseSpd::factor(m, &s_raw) {
+                    Ok(f) => s = Some(f),
+                    Err(_) => status = 1.0,
+                }
+            }
+            world.process_at_rank(0).broadcast_into(&mut status);
+            if status != 0.0 {
+                return Err(Error::LinearSolver(
+                    "the dense factorization of the Schur complement failed".into(),
+                ));
+            }
+            Some(SchurPart {
+                m,
+                layout: Layout::new(world, surface.cs.len() * comps.len()),
+                s_raw,
+                s,
+                shifted: None,
+            })
+        } else {
+            None
+        };
+        Ok(Direct {
+            mumps,
+            ev_factor,
+            ev_solve,
+            ev_schur,
+            factorizations: 1,
+            dofs: dof_layout,
+            schur,
+            flops,
+            ordering,
+        })
+    }
+
+    pub fn is_condensed(&self) -> bool {
+        self.schur.is_some()
+    }
+
+    /// Schur complement order (0 without).
+    pub fn schur_size(&self) -> usize {
+        self.schur.as_ref().map_or(0, |s| s.m)
+    }
+
+    /// Solves `K_r X = B` for `k` right-hand sides: this rank's rows of each
+    /// column, column-major (`local * k`), overwritten by the solutions.
+    pub fn solve_full<C: Communicator>(
+        &mut self,
+        world: &C,
+        cols: &mut [f64],
+        k: usize,
+    ) -> Result<(), Error> {
+        let _e = self.ev_solve.begin();
+        let local = cols.len() / k.max(1);
+        // Gather column by column (each in rank order).
+        let mut all = Vec::new();
+        for j in 0..k {
+            let g = self.dofs.gather(world, &cols[j * local..(j + 1) * local]);
+            all.extend(g);
+        }
+        let host = world.rank() == 0;
+        match &self.schur {
+            None => self.mumps.solve(&mut all, k, 0)?,
+            Some(sp) => {
+                self.mumps.solve(&mut all, k, 1)?;
+                // The dense solves on the host; their failure is made
+                // collective before the next MUMPS call.
+                let mut status = 0.0f64;
+                if host {
+                    let m = sp.m;
+                    let s = sp.s.as_ref().expect("the host has S");
+                    let red = self.mumps.redrhs_mut();
+                    let mut x = vec![0.0; m];
+                    for j in 0..k {
+                        if s.solve(&red[j * m..(j + 1) * m], &mut x).is_err() {
+                            status = 1.0;
+                        }
+                        red[j * m..(j + 1) * m].copy_from_slice(&x);
+                    }
+                }
+                world.process_at_rank(0).broadcast_into(&mut status);
+                if status != 0.0 {
+                    return Err(Error::LinearSolver("the dense Schur solve failed".into()));
+                }
+                self.mumps.solve(&mut all, k, 2)?;
+            }
+        }
+        let n = self.dofs.total();
+        for j in 0..k {
+            let part = if host {
+                &all[j * n..(j + 1) * n]
+            } else {
+                &[][..]
+            };
+            self.dofs
+                .scatter(world, part, &mut cols[j * local..(j + 1) * local]);
+        }
+        Ok(())
+    }
+
+    /// `x = S_r^{-1} c` on the contact unknowns (this rank's part of each),
+    /// with S at the current r.
+    pub fn solve_schur<C: Communicator>(
+        &self,
+        world: &C,
+        c: &[f64],
+        x: &mut [f64],
+    ) -> Result<(), Error> {
+        let _e = self.ev_schur.begin();
+        let sp = self.schur.as_ref().expect("condensed");
+        let all = sp.layout.gather(world, c);
+        let mut sol = Vec::new();
+        let mut status = 0.0f64;
+        if world.rank() == 0 {
+            sol = vec![0.0; sp.m];
+            let s = sp
+                .shifted
+                .as_ref()
+                .or(sp.s.as_ref())
+                .expect("the host has S");
+            if s.solve(&all, &mut sol).is_err() {
+                status = 1.0;
+            }
+        }
+        world.process_at_rank(0).broadcast_into(&mut status);
+        if status != 0.0 {
+            return Err(Error::LinearSolver("the dense Schur solve failed".into()));
+        }
+        sp.layout.scatter(world, &sol, x);
+        Ok(())
+    }
+
+    /// `S_a y` for this rank's part `y` of a contact vector, gathered and
+    /// scattered back (S at the assembled r).
+    pub fn apply_schur<C: Communicator>(&self, world: &C, y: &[f64], out: &mut [f64]) {
+        let sp = self.schur.as_ref().expect("condensed");
+        let all = sp.layout.gather(world, y);
+        let mut prod = Vec::new();
+        if world.rank() == 0 {
+            let m = sp.m;
+            prod = vec![0.0; m];
+            for (j, &yj) in all.iter().enumerate() {
+                if yj != 0.0 {
+                    for (p, s) in prod.iter_mut().zip(&sp.s_raw[j * m..(j + 1) * m]) {
+                        *p += s * yj;
+                    }
+                }
+            }
+        }
+        sp.layout.scatter(world, &prod, out);
+    }
+
+    /// S at `S_a + delta M`, M the contact blocks `blocks` (this rank's
+    /// candidates, `d x d` each (d: the Schur components per candidate),
+    /// row-major; Dirichlet rows and columns zero).
+    pub fn shift_schur<C: Communicator>(
+        &mut self,
+        world: &C,
+        delta: f64,
+        blocks: &[f64],
+        d: usize,
+    ) -> Result<(), Error> {
+        let sp = self.schur.as_mut().expect("condensed");
+        let layout = Layout::new(world, blocks.len());
+        let all = layout.gather(world, blocks);
+        let mut status = 0.0f64;
+        if world.rank() == 0 {
+            let m = sp.m;
+            let mut s = sp.s_raw.clone();
+            for (i, b) in all.chunks(d * d).enumerate() {
+                for a in 0..d {
+                    for c in 0..d {
+                        let (row, col) = (i * d + a, i * d + c);
+                        s[col * m + row] += delta * b[a * d + c];
+                    }
+                }
+            }
+            match DenseSpd::factor(m, &s) {
+                Ok(f) => sp.shifted = Some(f),
+                Err(_) => status = 1.0,
+            }
+        }
+        world.process_at_rank(0).broadcast_into(&mut status);
+        if status != 0.0 {
+            return Err(Error::LinearSolver(
+                "the factorization of the shifted Schur complement failed".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Refactorizes after the values of `a` changed (same pattern).
+    pub fn refactorize<C: Communicator>(&mut self, world: &C, a: &Matrix) -> Result<(), Error> {
+        let vals = self.mumps.values_mut();
+        let mut k = 0;
+        a.for_each_owned_row(|row, cols, v| {
+            for (&c, &x) in cols.iter().zip(v) {
+                if c as usize <= row {
+                    vals[k] = x;
+                    k += 1;
+                }
+            }
+        })?;
+        {
+            let _e = self.ev_factor.begin();
+            self.mumps.factorize()?;
+        }
+        self.factorizations += 1;
+        if let Some(sp) = self.schur.as_mut() {
+            let mut status = 0.0f64;
+            if world.rank() == 0 {
+                sp.s_raw = self.mumps.schur();
+                match DenseSpd::factor(sp.m, &sp.s_raw) {
+                    Ok(f) => sp.s = Some(f),
+                    Err(_) => status = 1.0,
+                }
+            }
+            world.process_at_rank(0).broadcast_into(&mut status);
+            if status != 0.0 {
+                return Err(Error::LinearSolver(
+                    "the dense factorization of the Schur complement failed".into(),
+                ));
+            }
+            sp.shifted = None;
+        }
+        Ok(())
+    }
+}
