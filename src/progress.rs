@@ -22,7 +22,7 @@ static START: OnceLock<(Instant, bool)> = OnceLock::new();
 struct State {
     /// The phase's line, when it started (seconds), whether printed.
     phase: Option<(String, f64, bool)>,
-    /// When the last line was printed.
+    /// When the last iteration line was printed.
     last: Option<Instant>,
 }
 
@@ -41,7 +41,6 @@ pub fn start(root: bool) {
                 with_state(|s| {
                     if let Some((line, t, printed @ false)) = &mut s.phase {
                         *printed = true;
-                        s.last = Some(Instant::now());
                         emit(*t, line);
                     }
                 });
@@ -78,7 +77,6 @@ pub fn phase(expected_long: bool, line: impl FnOnce() -> String) {
     with_state(|s| {
         if now {
             emit(t, &line);
-            s.last = Some(Instant::now());
         }
         s.phase = Some((line, t, now));
     });
@@ -90,7 +88,7 @@ pub fn finish() {
 }
 
 /// While iterating: printed when the run is long and [`PERIOD`] seconds
-/// have passed since the last line.
+/// have passed since the last such line.
 pub fn tick(line: impl FnOnce() -> String) {
     if !root() || elapsed() <= LONG_RUN {
         return;
