@@ -5,20 +5,6 @@
 mod common;
 use common::*;
 
-/// max |lambda_n(a) - lambda_n(b)| / max lambda_n(b), rows matched by node.
-fn gap(a: &[Row], b: &[Row]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let peak = b.iter().map(|r| r.lambda_n).fold(0.0, f64::max);
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| {
-            assert_eq!(x.node, y.node);
-            (x.lambda_n - y.lambda_n).abs()
-        })
-        .fold(0.0, f64::max)
-        / peak
-}
-
 /// The paper's iteration at a fixed r and tolerance: a linear contraction
 /// whose iterates round-off cannot move far.
 fn hertz_plain(extra: &[&'static str]) -> Vec<&'static str> {
@@ -93,7 +79,7 @@ fn direct_solves_equal_petsc_ksp() {
                 run.stdout
             );
             assert_eq!(rd["iterations"], rk["iterations"], "{name} -n {ranks}");
-            let g = gap(&dm, &k);
+            let g = max_pressure_gap(&dm, &k);
             assert!(
                 g <= 1e-10,
                 "{name} -n {ranks}: direct and KSP differ by {g:.2e}"
@@ -143,7 +129,7 @@ fn condensed_iterates_equal_full_ones() {
             }
             let (rf, f) = reference.as_ref().unwrap();
             assert_eq!(rc["iterations"], rf["iterations"], "{name} -n {ranks}");
-            let g = gap(&c, f);
+            let g = max_pressure_gap(&c, f);
             assert!(
                 g <= 1e-9,
                 "{name} -n {ranks}: condensed and full differ by {g:.2e}"

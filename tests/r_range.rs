@@ -7,20 +7,6 @@
 mod common;
 use common::*;
 
-/// max |lambda_n - lambda_n^ref| / max lambda_n^ref (rows matched by node).
-fn error(a: &[Row], b: &[Row]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let peak = b.iter().map(|r| r.lambda_n).fold(0.0, f64::max);
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| {
-            assert_eq!(x.node, y.node);
-            (x.lambda_n - y.lambda_n).abs()
-        })
-        .fold(0.0, f64::max)
-        / peak
-}
-
 fn sweep(name: &str, base: &[&str], young: f64, ratios: &[f64]) {
     let mut reference = base.to_vec();
     reference.extend_from_slice(&["-ubr_lambda_rtol", "1e-10"]);
@@ -29,7 +15,7 @@ fn sweep(name: &str, base: &[&str], young: f64, ratios: &[f64]) {
     let mut vi = base.to_vec();
     vi.extend_from_slice(&["-contact_algorithm", "snesvi"]);
     let (_, _, vi_rows) = solve_rows(&format!("{name}-vi"), 1, &vi);
-    let e = error(&vi_rows, &ref_rows);
+    let e = max_pressure_gap(&vi_rows, &ref_rows);
     assert!(
         e < 1e-7,
         "{name}: SNES VI and the reference differ by {e:.2e}"
@@ -41,7 +27,7 @@ fn sweep(name: &str, base: &[&str], young: f64, ratios: &[f64]) {
         let (run, rep, rows) = solve_rows(&format!("{name}-{q}"), 1, &args);
         assert_eq!(rep["r_source"], "option");
         assert_eq!(num(&rep, "r"), q * young);
-        let e = error(&rows, &ref_rows);
+        let e = max_pressure_gap(&rows, &ref_rows);
         let est = num(&rep, "lambda_error_estimate");
         println!(
             "{name}: r/E = {q:e}: {} iterations, error {e:.2e}, estimate {est:.2e}",

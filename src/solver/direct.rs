@@ -25,66 +25,15 @@
 //! `-mat_mumps_icntl_7 K` with K other than 1 selects MUMPS' own ordering K).
 
 use super::surface::Surface;
+use super::Layout;
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
 use crate::mumps::Mumps;
 use crate::petsc::{options, DenseSpd, LogEvent, Matrix};
-use mpi::datatype::{Partition, PartitionMut};
 use mpi::traits::*;
 
 /// ICNTL entries this back-end sets itself.
 const OWNED_ICNTL: [usize; 6] = [5, 18, 19, 20, 21, 26];
-
-/// The per-rank layout of a distributed array gathered on the host.
-struct Layout {
-    counts: Vec<i32>,
-    displs: Vec<i32>,
-}
-
-impl Layout {
-    fn new<C: Communicator>(world: &C, local: usize) -> Layout {
-        let mut counts = vec![0i32; world.size() as usize];
-        world.all_gather_into(&(local as i32), &mut counts[..]);
-        let displs = counts
-            .iter()
-            .scan(0i32, |acc, &c| {
-                let s = *acc;
-                *acc += c;
-                Some(s)
-            })
-            .collect();
-        Layout { counts, displs }
-    }
-
-    fn total(&self) -> usize {
-        self.counts.iter().map(|&c| c as usize).sum()
-    }
-
-    /// `local` of every rank, in rank order, on the host (empty elsewhere).
-    fn gather<C: Communicator>(&self, world: &C, local: &[f64]) -> Vec<f64> {
-        let root = world.process_at_rank(0);
-        if world.rank() == 0 {
-            let mut all = vec![0.0; self.total()];
-            let mut part = PartitionMut::new(&mut all[..], &self.counts[..], &self.displs[..]);
-            root.gather_varcount_into_root(local, &mut part);
-            all
-        } else {
-            root.gather_varcount_into(local);
-            Vec::new()
-        }
-    }
-
-    /// The host's `all` back to the ranks, each its part into `local`.
-    fn scatter<C: Communicator>(&self, world: &C, all: &[f64], local: &mut [f64]) {
-        let root = world.process_at_rank(0);
-        if world.rank() == 0 {
-            let part = Partition::new(all, &self.counts[..], &self.displs[..]);
-            root.scatter_varcount_into_root(&part, local);
-        } else {
-            root.scatter_varcount_into(local);
-        }
-    }
-}
 
 /// The contact part: the Schur complement on the host.
 struct SchurPart {

@@ -30,7 +30,71 @@ use crate::mesh::distribute::LocalMesh;
 use crate::options::Settings;
 use crate::petsc::{self, options, sys, Ksp, Matrix, NullSpace, Vector};
 use mpi::collective::SystemOperation;
+use mpi::datatype::{Equivalence, Partition, PartitionMut};
 use mpi::traits::*;
+
+/// The per-rank layout of a distributed array gathered on the host.
+pub struct Layout {
+    counts: Vec<i32>,
+    displs: Vec<i32>,
+}
+
+impl Layout {
+    pub fn new<C: Communicator>(world: &C, local: usize) -> Layout {
+        let mut counts = vec![0i32; world.size() as usize];
+        world.all_gather_into(&(local as i32), &mut counts[..]);
+        let displs = counts
+            .iter()
+            .scan(0i32, |acc, &c| {
+                let s = *acc;
+                *acc += c;
+                Some(s)
+            })
+            .collect();
+        Layout { counts, displs }
+    }
+
+    pub fn total(&self) -> usize {
+        self.counts.iter().map(|&c| c as usize).sum()
+    }
+
+    /// `local` of every rank, in rank order, on the host (empty elsewhere).
+    pub fn gather<C: Communicator>(&self, world: &C, local: &[f64]) -> Vec<f64> {
+        let root = world.process_at_rank(0);
+        if world.rank() == 0 {
+            let mut all = vec![0.0; self.total()];
+            let mut part = PartitionMut::new(&mut all[..], &self.counts[..], &self.displs[..]);
+            root.gather_varcount_into_root(local, &mut part);
+            all
+        } else {
+            root.gather_varcount_into(local);
+            Vec::new()
+        }
+    }
+
+    /// `local` of every rank, in rank order, on every rank.
+    pub fn all_gather<C: Communicator, T: Equivalence + Default + Clone>(
+        &self,
+        world: &C,
+        local: &[T],
+    ) -> Vec<T> {
+        let mut all = vec![T::default(); self.total()];
+        let mut part = PartitionMut::new(&mut all[..], &self.counts[..], &self.displs[..]);
+        world.all_gather_varcount_into(local, &mut part);
+        all
+    }
+
+    /// The host's `all` back to the ranks, each its part into `local`.
+    pub fn scatter<C: Communicator>(&self, world: &C, all: &[f64], local: &mut [f64]) {
+        let root = world.process_at_rank(0);
+        if world.rank() == 0 {
+            let part = Partition::new(all, &self.counts[..], &self.displs[..]);
+            root.scatter_varcount_into_root(&part, local);
+        } else {
+            root.scatter_varcount_into(local);
+        }
+    }
+}
 
 /// Sum of `vals` over all ranks, in one reduction.
 pub fn allreduce_sum<C: Communicator, const N: usize>(world: &C, vals: [f64; N]) -> [f64; N] {

@@ -281,9 +281,11 @@ pub fn spectrum<C: Communicator>(
         return Ok(None);
     }
     if lin.iterative && lin.adaptive_inner {
-        // The Lanczos vectors' solves start from zero; the extreme Ritz values
-        // need a few digits (r is their geometric mean, wanted within 10%).
-        lin.set_inner_rtol(1e-4)?;
+        // The Lanczos vectors' solves start from zero; the iterative path
+        // only decides whether to move r (the preconditioner is kept either
+        // way), for which the extreme Ritz values of inexact products (CG to
+        // 1e-2) are close enough, at a few CG steps each.
+        lin.set_inner_rtol(1e-2)?;
     }
     let steps_max = MAX_STEPS.min(dim);
     let mut q = start_vector(mesh, &surface, &space);

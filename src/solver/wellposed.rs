@@ -14,7 +14,7 @@
 //! section 4.1's remark). They are returned for the choice of r, whose
 //! spectrum they would otherwise dominate ([`super::penalty`]).
 
-use super::allreduce_sum_vec;
+use super::{allreduce_sum_vec, Layout};
 use crate::contact::ContactSet;
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
@@ -124,26 +124,7 @@ impl Bodies {
         let mut mine: Vec<u64> = (0..owned).map(|v| label[set[v]]).collect();
         mine.sort_unstable();
         mine.dedup();
-        let counts = {
-            let mut all = vec![0i32; world.size() as usize];
-            world.all_gather_into(&(mine.len() as i32), &mut all[..]);
-            all
-        };
-        let total: usize = counts.iter().map(|&c| c as usize).sum();
-        let mut every = vec![0u64; total];
-        {
-            let displs: Vec<i32> = counts
-                .iter()
-                .scan(0i32, |acc, &c| {
-                    let s = *acc;
-                    *acc += c;
-                    Some(s)
-                })
-                .collect();
-            let mut part =
-                mpi::datatype::PartitionMut::new(&mut every[..], &counts[..], &displs[..]);
-            world.all_gather_varcount_into(&mine[..], &mut part);
-        }
+        let mut every = Layout::new(world, mine.len()).all_gather(world, &mine);
         every.sort_unstable();
         every.dedup();
         let nb = every.len();
@@ -525,27 +506,10 @@ pub fn check_loads<C: Communicator>(
         }
     }
     let root = world.process_at_rank(0);
-    let counts = {
-        let mut all = vec![0i32; world.size() as usize];
-        world.all_gather_into(&(cols.len() as i32), &mut all[..]);
-        all
-    };
-    let total: usize = counts.iter().map(|&c| c as usize).sum();
+    let all = Layout::new(world, cols.len()).gather(world, &cols);
     let mut verdict = [0.0f64; 2]; // [pulled off?, relative residual]
     if world.rank() == 0 {
-        let mut all = vec![0.0; total];
-        let displs: Vec<i32> = counts
-            .iter()
-            .scan(0i32, |acc, &c| {
-                let s = *acc;
-                *acc += c;
-                Some(s)
-            })
-            .collect();
-        {
-            let mut part = mpi::datatype::PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
-            root.gather_varcount_into_root(&cols[..], &mut part);
-        }
+        let total = all.len();
         let n = total / k;
         let a = DMatrix::from_column_slice(k, n, &all);
         let bv = nalgebra::DVector::from_column_slice(&b);
@@ -555,8 +519,6 @@ pub fn check_loads<C: Communicator>(
             let res = (&a * &x - &bv).norm() / bn;
             verdict = [if res > 1e-6 { 1.0 } else { 0.0 }, res];
         }
-    } else {
-        root.gather_varcount_into(&cols[..]);
     }
     root.broadcast_into(&mut verdict[..]);
     if verdict[0] > 0.0 {

@@ -205,3 +205,17 @@ pub fn solve_rows(name: &str, ranks: usize, args: &[&str]) -> (Run, serde_json::
     let _ = std::fs::remove_dir_all(&dir);
     (run, r, c)
 }
+
+/// max |lambda_n(a) - lambda_n(b)| / max lambda_n(b), rows matched by node.
+pub fn max_pressure_gap(a: &[Row], b: &[Row]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let peak = b.iter().map(|r| r.lambda_n).fold(0.0, f64::max);
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| {
+            assert_eq!(x.node, y.node);
+            (x.lambda_n - y.lambda_n).abs()
+        })
+        .fold(0.0, f64::max)
+        / peak
+}
