@@ -7,9 +7,10 @@
 //! - Input: each rank's rows of the assembled `K_r` (its lower triangle),
 //!   distributed assembled format (ICNTL(18) = 3), SYM = 1.
 //! - Ordering: METIS_NodeND on the nodal graph (the mesh's, gathered on the
-//!   host) of the nodes that are not contact candidates, each node's dofs
-//!   together, the contact unknowns last; given as PERM_IN (ICNTL(7) = 1,
-//!   sequential analysis ICNTL(28) = 1).
+//!   host), each node's dofs together, the contact unknowns last; given as
+//!   PERM_IN (ICNTL(7) = 1, sequential analysis ICNTL(28) = 1). In 3D
+//!   always; in 2D only where it pays for its own (sequential) time, judged
+//!   from the flops MUMPS' AMD ordering predicts ([`METIS_PAYS_2D`]).
 //! - Schur complement (when condensing): on the contact unknowns (candidate
 //!   by candidate, rank by rank), centralized on the host (ICNTL(19) = 1),
 //!   factorized there by LAPACK. A full solve is then a condensation
@@ -21,8 +22,10 @@
 //!
 //! The usual `-mat_mumps_icntl_N` / `-mat_mumps_cntl_N` options are passed
 //! on, except those this back-end sets: 5, 18 (input format), 19, 26 (Schur),
-//! 20, 21 (centralized right-hand sides), and 7, 28 (the METIS ordering;
-//! `-mat_mumps_icntl_7 K` with K other than 1 selects MUMPS' own ordering K).
+//! 20, 21 (centralized right-hand sides), and 28 with METIS;
+//! `-mat_mumps_icntl_7 1` asks for METIS, `-mat_mumps_icntl_7 K` with K
+//! other than 1 for MUMPS' own ordering K (with a Schur complement MUMPS
+//! may replace it by AMD).
 
 use super::surface::Surface;
 use super::Layout;
@@ -179,6 +182,79 @@ fn metis_order<C: Communicator>(
     Ok(perm_in)
 }
 
+/// In 2D, METIS' nested dissection pays for its own time (it is sequential,
+/// about 3-7 us per node here) only when MUMPS' approximate minimum degree
+/// ordering predicts more than this many factorization flops per node.
+/// Measured (one rank; METIS saves 35-60% of the flops in 2D): Hertz meshes
+/// of 6,001 to 259,066 nodes predict 1.7e4 to 2.1e5 and are faster with AMD
+/// (hertz_37473: factorization phase 0.32 s against 0.41 s), at 909,078
+/// nodes (4.5e5) the two tie; a crowned Coulomb block of 114,646 nodes
+/// (2.6e5) is faster with METIS (1.87 s against 2.18 s). In 3D, METIS always
+/// (block3d_17887: 5.4e10 flops against 1.4e11 with AMD).
+pub const METIS_PAYS_2D: f64 = 2.5e5;
+
+/// Analyses with the ordering the options ask for (`-mat_mumps_icntl_7 K`:
+/// 1 is METIS, others MUMPS' own K), else the one predicted faster: METIS
+/// in 3D; in 2D, MUMPS' AMD unless its predicted flops per node exceed
+/// [`METIS_PAYS_2D`] (then METIS, and the analysis again). Returns the
+/// ordering's description for the summary.
+fn choose_ordering<C: Communicator>(
+    world: &C,
+    mumps: &mut Mumps,
+    mesh: &LocalMesh,
+    schur_nodes: &[usize],
+    comps: &[usize],
+) -> Result<String, Error> {
+    let ev_analysis = LogEvent::register("MUMPSAnalysis")?;
+    let metis = |mumps: &mut Mumps| -> Result<(), Error> {
+        let perm_in = {
+            let _e = LogEvent::register("METISOrdering")?.begin();
+            metis_order(world, mesh, schur_nodes, comps)?
+        };
+        mumps.set_ordering(perm_in);
+        let _e = ev_analysis.begin();
+        mumps.analyse()
+    };
+    let user = options::get_string("-mat_mumps_icntl_7")?.map(|v| v.trim().to_string());
+    match user.as_deref() {
+        Some("1") => {
+            metis(mumps)?;
+            return Ok("METIS nested dissection (-mat_mumps_icntl_7 1)".into());
+        }
+        Some(k) => {
+            let k: i32 = k.parse().map_err(|_| {
+                Error::BadInput(format!(
+                    "option -mat_mumps_icntl_7: '{k}' is not an integer"
+                ))
+            })?;
+            mumps.set_icntl(7, k);
+            let _e = ev_analysis.begin();
+            mumps.analyse()?;
+            return Ok(format!("MUMPS ordering ICNTL(7) = {k}"));
+        }
+        None => {}
+    }
+    if mesh.dim == 3 {
+        metis(mumps)?;
+        return Ok("METIS nested dissection".into());
+    }
+    mumps.set_icntl(7, 0);
+    {
+        let _e = ev_analysis.begin();
+        mumps.analyse()?;
+    }
+    let per_node = mumps.rinfog(1) / mesh.global_nodes.max(1) as f64;
+    if per_node <= METIS_PAYS_2D {
+        return Ok(format!(
+            "MUMPS' AMD: {per_node:.1e} flops per node, METIS pays above {METIS_PAYS_2D:.1e}"
+        ));
+    }
+    metis(mumps)?;
+    Ok(format!(
+        "METIS nested dissection: AMD predicted {per_node:.1e} flops per node, above {METIS_PAYS_2D:.1e}"
+    ))
+}
+
 impl Direct {
     /// Analyses and factorizes `a` (the assembled `K_r`), with the Schur
     /// complement on the contact unknowns when `condense`.
@@ -194,8 +270,10 @@ impl Direct {
     ) -> Result<Direct, Error> {
         let d = mesh.dim;
         let n = mesh.global_nodes * d;
+        let ev_init = LogEvent::register("MUMPSInit")?.begin();
         let (irn, jcn, val) = lower_triplets(a)?;
         let mut mumps = Mumps::new(crate::petsc::comm_world(), world.rank(), true)?;
+        drop(ev_init);
         mumps.set_matrix(n, irn, jcn, val);
         // The user's MUMPS options, but those this back-end sets.
         for i in 1..=60usize {
@@ -225,21 +303,6 @@ impl Direct {
             .iter()
             .map(|&x| x as usize)
             .collect();
-        let user_ordering = options::get_string("-mat_mumps_icntl_7")?
-            .map(|v| v.trim().to_string())
-            .filter(|v| v != "1");
-        let ordering = match &user_ordering {
-            Some(k) => {
-                mumps.set_icntl(7, k.parse().unwrap_or(0));
-                format!("MUMPS ordering ICNTL(7) = {k}")
-            }
-            None => {
-                let schur_nodes: &[usize] = if condense { &contact_global } else { &[] };
-                let perm_in = metis_order(world, mesh, schur_nodes, comps)?;
-                mumps.set_ordering(perm_in);
-                "METIS nested dissection".to_string()
-            }
-        };
         let m = layout.total() * comps.len();
         let dof_layout = Layout::new(world, mesh.owned_count * d);
         if condense {
@@ -249,13 +312,11 @@ impl Direct {
                 .collect();
             mumps.set_schur(m, listvar);
         }
+        let schur_nodes: &[usize] = if condense { &contact_global } else { &[] };
+        let ordering = choose_ordering(world, &mut mumps, mesh, schur_nodes, comps)?;
         let ev_factor = LogEvent::register("MUMPSFactorNum")?;
         let ev_solve = LogEvent::register("MUMPSSolve")?;
         let ev_schur = LogEvent::register("SchurSolve")?;
-        {
-            let _e = LogEvent::register("MUMPSAnalysis")?.begin();
-            mumps.analyse()?;
-        }
         {
             let _e = ev_factor.begin();
             mumps.factorize()?;
@@ -264,6 +325,7 @@ impl Direct {
         let schur = if condense {
             let (mut s_raw, mut s) = (Vec::new(), None);
             let mut status = 0.0f64;
+            let _e = LogEvent::register("SchurFactor")?.begin();
             if world.rank() == 0 {
                 s_raw = mumps.schur();
                 match DenseSpd::factor(m, &s_raw) {
