@@ -527,7 +527,7 @@ pub fn deformation<C: Communicator>(world: &C, local: &LocalMesh, u_local: &[f64
             xs.extend_from_slice(local.x(v));
             us.extend_from_slice(&u_local[v * d..(v + 1) * d]);
         }
-        let (e, inv) = fem::deformation::cell_deformation(d, &xs, &us);
+        let (e, inv) = fem::deformation::cell_deformation(d, &xs, &us, max_strain);
         max_strain = max_strain.max(e);
         inverted += usize::from(inv);
     }
