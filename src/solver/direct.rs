@@ -47,6 +47,10 @@ struct SchurPart {
     s_raw: Vec<f64>,
     s: Option<DenseSpd>,
     shifted: Option<DenseSpd>,
+    /// Host: the gathered right-hand side and the solution of a Schur
+    /// solve (m each), kept between the iterations' solves.
+    rhs: Vec<f64>,
+    sol: Vec<f64>,
 }
 
 /// MUMPS on the assembled matrix, with or without the Schur complement.
@@ -64,6 +68,9 @@ pub struct Direct {
     /// Flops of the factorization (RINFOG(3)) and the ordering used.
     pub flops: f64,
     pub ordering: String,
+    /// Host: the gathered right-hand sides of a full solve, kept between
+    /// solves.
+    all: Vec<f64>,
 }
 
 /// This rank's lower-triangle entries of `a` (1-based) and its row counts.
@@ -345,6 +352,8 @@ impl Direct {
                 s_raw,
                 s,
                 shifted: None,
+                rhs: vec![0.0; if world.rank() == 0 { m } else { 0 }],
+                sol: vec![0.0; if world.rank() == 0 { m } else { 0 }],
             })
         } else {
             None
@@ -359,6 +368,7 @@ impl Direct {
             schur,
             flops,
             ordering,
+            all: Vec::new(),
         })
     }
 
@@ -381,14 +391,23 @@ impl Direct {
     ) -> Result<(), Error> {
         let _e = self.ev_solve.begin();
         let local = cols.len() / k.max(1);
-        // Gather column by column (each in rank order).
-        let mut all = Vec::new();
-        for j in 0..k {
-            let g = self.dofs.gather(world, &cols[j * local..(j + 1) * local]);
-            all.extend(g);
-        }
+        let n = self.dofs.total();
         let host = world.rank() == 0;
-        match &self.schur {
+        // Gather column by column (each in rank order).
+        let mut all = std::mem::take(&mut self.all);
+        if host {
+            all.resize(n * k, 0.0);
+        }
+        for j in 0..k {
+            let dst = if host {
+                &mut all[j * n..(j + 1) * n]
+            } else {
+                &mut [][..]
+            };
+            self.dofs
+                .gather_into(world, &cols[j * local..(j + 1) * local], dst);
+        }
+        match &mut self.schur {
             None => self.mumps.solve(&mut all, k, 0)?,
             Some(sp) => {
                 self.mumps.solve(&mut all, k, 1)?;
@@ -399,12 +418,11 @@ impl Direct {
                     let m = sp.m;
                     let s = sp.s.as_ref().expect("the host has S");
                     let red = self.mumps.redrhs_mut();
-                    let mut x = vec![0.0; m];
                     for j in 0..k {
-                        if s.solve(&red[j * m..(j + 1) * m], &mut x).is_err() {
+                        if s.solve(&red[j * m..(j + 1) * m], &mut sp.sol).is_err() {
                             status = 1.0;
                         }
-                        red[j * m..(j + 1) * m].copy_from_slice(&x);
+                        red[j * m..(j + 1) * m].copy_from_slice(&sp.sol);
                     }
                 }
                 world.process_at_rank(0).broadcast_into(&mut status);
@@ -414,7 +432,6 @@ impl Direct {
                 self.mumps.solve(&mut all, k, 2)?;
             }
         }
-        let n = self.dofs.total();
         for j in 0..k {
             let part = if host {
                 &all[j * n..(j + 1) * n]
@@ -424,30 +441,29 @@ impl Direct {
             self.dofs
                 .scatter(world, part, &mut cols[j * local..(j + 1) * local]);
         }
+        self.all = all;
         Ok(())
     }
 
     /// `x = S_r^{-1} c` on the contact unknowns (this rank's part of each),
     /// with S at the current r.
     pub fn solve_schur<C: Communicator>(
-        &self,
+        &mut self,
         world: &C,
         c: &[f64],
         x: &mut [f64],
     ) -> Result<(), Error> {
         let _e = self.ev_schur.begin();
-        let sp = self.schur.as_ref().expect("condensed");
-        let all = sp.layout.gather(world, c);
-        let mut sol = Vec::new();
+        let sp = self.schur.as_mut().expect("condensed");
+        sp.layout.gather_into(world, c, &mut sp.rhs);
         let mut status = 0.0f64;
         if world.rank() == 0 {
-            sol = vec![0.0; sp.m];
             let s = sp
                 .shifted
                 .as_ref()
                 .or(sp.s.as_ref())
                 .expect("the host has S");
-            if s.solve(&all, &mut sol).is_err() {
+            if s.solve(&sp.rhs, &mut sp.sol).is_err() {
                 status = 1.0;
             }
         }
@@ -455,7 +471,7 @@ impl Direct {
         if status != 0.0 {
             return Err(Error::LinearSolver("the dense Schur solve failed".into()));
         }
-        sp.layout.scatter(world, &sol, x);
+        sp.layout.scatter(world, &sp.sol, x);
         Ok(())
     }
 

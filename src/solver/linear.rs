@@ -72,6 +72,31 @@ pub struct LinearSolver {
     pub solves: usize,
     /// Inner tolerance last set on an iterative solver.
     rtol: f64,
+    /// Work space of the direct solves of every iteration (the picked
+    /// Schur components, and the solution or a whole right-hand side).
+    scratch: (Vec<f64>, Vec<f64>),
+}
+
+/// The Schur components `comps` of each candidate of `v` (`dim` values
+/// each) into `out`.
+fn pick_into(dim: usize, comps: &[usize], v: &[f64], out: &mut Vec<f64>) {
+    out.clear();
+    out.extend(
+        v.chunks_exact(dim)
+            .flat_map(|x| comps.iter().map(move |&c| x[c])),
+    );
+}
+
+/// Writes the Schur components `x` into `uc` (`dim` values per candidate;
+/// the others 0).
+fn place(dim: usize, comps: &[usize], x: &[f64], uc: &mut [f64]) {
+    let nk = comps.len();
+    uc.iter_mut().for_each(|v| *v = 0.0);
+    for (i, xi) in x.chunks_exact(nk).enumerate() {
+        for (k, &c) in comps.iter().enumerate() {
+            uc[i * dim + c] = xi[k];
+        }
+    }
 }
 
 impl LinearSolver {
@@ -107,6 +132,7 @@ impl LinearSolver {
             rhs,
             solves: 0,
             rtol: f64::NAN,
+            scratch: (Vec::new(), Vec::new()),
         })
     }
 
@@ -170,20 +196,9 @@ impl LinearSolver {
 
     /// The Schur components of a contact vector (candidate by candidate).
     fn pick(&self, v: &[f64]) -> Vec<f64> {
-        v.chunks_exact(self.dim)
-            .flat_map(|x| self.comps.iter().map(move |&c| x[c]))
-            .collect()
-    }
-
-    /// Writes the Schur components `x` into `uc` (the others 0).
-    fn place(&self, x: &[f64], uc: &mut [f64]) {
-        let nk = self.comps.len();
-        uc.iter_mut().for_each(|v| *v = 0.0);
-        for (i, xi) in x.chunks_exact(nk).enumerate() {
-            for (k, &c) in self.comps.iter().enumerate() {
-                uc[i * self.dim + c] = xi[k];
-            }
-        }
+        let mut out = Vec::new();
+        pick_into(self.dim, &self.comps, v, &mut out);
+        out
     }
 
     /// The Schur components of the candidates, when condensed.
@@ -226,9 +241,13 @@ impl LinearSolver {
                 Ok(its)
             }
             Engine::Direct(d) => {
-                let mut x = b.read(|b| b.to_vec())?;
-                d.solve_full(&self.world, &mut x, 1)?;
-                u.write(|u| u.copy_from_slice(&x))?;
+                let x = &mut self.scratch.1;
+                b.read(|b| {
+                    x.clear();
+                    x.extend_from_slice(b);
+                })?;
+                d.solve_full(&self.world, x, 1)?;
+                u.write(|u| u.copy_from_slice(x))?;
                 Ok(0)
             }
         }
@@ -244,14 +263,16 @@ impl LinearSolver {
         uc: &mut [f64],
         u: &Vector,
     ) -> Result<usize, Error> {
-        if let (Some((_, y0)), Engine::Direct(d)) = (&self.y0, &self.engine) {
+        if let (Some((_, y0)), Engine::Direct(d)) = (&self.y0, &mut self.engine) {
             self.solves += 1;
-            let mut x = vec![0.0; y0.len()];
-            d.solve_schur(&self.world, &self.pick(c), &mut x)?;
+            let (picked, x) = &mut self.scratch;
+            pick_into(self.dim, &self.comps, c, picked);
+            x.resize(y0.len(), 0.0);
+            d.solve_schur(&self.world, picked, x)?;
             for (xi, y) in x.iter_mut().zip(y0) {
                 *xi += y;
             }
-            self.place(&x, uc);
+            place(self.dim, &self.comps, x, uc);
             return Ok(0);
         }
         self.rhs.copy_from(&self.rhs0)?;
@@ -271,11 +292,13 @@ impl LinearSolver {
         uc: &mut [f64],
         work: &Vector,
     ) -> Result<usize, Error> {
-        if let (Some((_, y0)), Engine::Direct(d)) = (&self.y0, &self.engine) {
+        if let (Some((_, y0)), Engine::Direct(d)) = (&self.y0, &mut self.engine) {
             self.solves += 1;
-            let mut x = vec![0.0; y0.len()];
-            d.solve_schur(&self.world, &self.pick(c), &mut x)?;
-            self.place(&x, uc);
+            let (picked, x) = &mut self.scratch;
+            pick_into(self.dim, &self.comps, c, picked);
+            x.resize(y0.len(), 0.0);
+            d.solve_schur(&self.world, picked, x)?;
+            place(self.dim, &self.comps, x, uc);
             return Ok(0);
         }
         self.rhs.set(0.0)?;

@@ -60,15 +60,24 @@ impl Layout {
 
     /// `local` of every rank, in rank order, on the host (empty elsewhere).
     pub fn gather<C: Communicator>(&self, world: &C, local: &[f64]) -> Vec<f64> {
+        let mut all = if world.rank() == 0 {
+            vec![0.0; self.total()]
+        } else {
+            Vec::new()
+        };
+        self.gather_into(world, local, &mut all);
+        all
+    }
+
+    /// [`Layout::gather`] into `all` (the host's, of length [`Layout::total`];
+    /// unused elsewhere): no allocation, for the solves of every iteration.
+    pub fn gather_into<C: Communicator>(&self, world: &C, local: &[f64], all: &mut [f64]) {
         let root = world.process_at_rank(0);
         if world.rank() == 0 {
-            let mut all = vec![0.0; self.total()];
-            let mut part = PartitionMut::new(&mut all[..], &self.counts[..], &self.displs[..]);
+            let mut part = PartitionMut::new(all, &self.counts[..], &self.displs[..]);
             root.gather_varcount_into_root(local, &mut part);
-            all
         } else {
             root.gather_varcount_into(local);
-            Vec::new()
         }
     }
 
