@@ -378,6 +378,23 @@ mod tests {
             .sum()
     }
 
+    /// Exact area of the meshed polygon: the quarter disk minus the circular
+    /// segments cut off by the arc's chords.
+    fn polygon_area(m: &Mesh) -> f64 {
+        let segments: f64 = m
+            .group("contact")
+            .unwrap()
+            .conn
+            .iter()
+            .map(|e| {
+                let c = dist(point(m, e[0]), point(m, e[1]));
+                let theta = 2.0 * (c / (2.0 * R)).asin();
+                0.5 * R * R * (theta - theta.sin())
+            })
+            .sum();
+        0.25 * PI * R * R - segments
+    }
+
     const SIZES: [f64; 7] = [20.0, 8.0, 2.0, 0.5, 0.37, 0.1, 0.04];
 
     #[test]
@@ -390,19 +407,7 @@ mod tests {
                 assert!(a > 0.0, "h = {h}: cell {c} has area {a}");
                 area += a;
             }
-            // Exact area of the polygon: the quarter disk minus the circular
-            // segments cut off by the arc's chords.
-            let outer = m.group("contact").unwrap();
-            let segments: f64 = outer
-                .conn
-                .iter()
-                .map(|e| {
-                    let c = dist(point(&m, e[0]), point(&m, e[1]));
-                    let theta = 2.0 * (c / (2.0 * R)).asin();
-                    0.5 * R * R * (theta - theta.sin())
-                })
-                .sum();
-            let polygon = 0.25 * PI * R * R - segments;
+            let polygon = polygon_area(&m);
             assert!(
                 (area - polygon).abs() < 1e-10 * polygon,
                 "h = {h}: {area} vs {polygon}"
@@ -559,16 +564,7 @@ mod tests {
                 area += m.signed_measure(c);
             }
             let outer = m.group("contact").unwrap();
-            let segments: f64 = outer
-                .conn
-                .iter()
-                .map(|e| {
-                    let c = dist(point(&m, e[0]), point(&m, e[1]));
-                    let theta = 2.0 * (c / (2.0 * R)).asin();
-                    0.5 * R * R * (theta - theta.sin())
-                })
-                .sum();
-            let polygon = 0.25 * PI * R * R - segments;
+            let polygon = polygon_area(&m);
             assert!(
                 (area - polygon).abs() < 1e-10 * polygon,
                 "h = {h}: {area} vs {polygon}"
