@@ -113,7 +113,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let mut problem = self.assemble(&local, contact, &restraint)?;
         let choice = self.choose_r(&local, &mut problem, &restraint)?;
         unused.early(self.root)?;
-        let solution = self.solve(&local, &mut problem)?;
+        let solution = self.solve(&local, &mut problem, &restraint)?;
         let checked = self.check(&local, &problem, &solution)?;
         self.output(&local, &problem, choice.as_ref(), &solution, &checked)?;
         if let Some(msg) = checked.singular {
@@ -266,12 +266,23 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     }
 
     /// Iterations stage: UBR-C, UBR-TF, CF-FP or a comparator.
-    fn solve(&mut self, local: &LocalMesh, problem: &mut Problem) -> Result<Solution, Error> {
+    fn solve(
+        &mut self,
+        local: &LocalMesh,
+        problem: &mut Problem,
+        restraint: &Restraint,
+    ) -> Result<Solution, Error> {
         let _guard = self.stages.iterations.push()?;
         let t = Instant::now();
         progress::phase(false, || "iterating".into());
-        let (state, solved) =
-            outcome::solve(self.world, local, &self.settings, problem, &self.events)?;
+        let (state, solved) = outcome::solve(
+            self.world,
+            local,
+            &self.settings,
+            problem,
+            restraint.friction_held,
+            &self.events,
+        )?;
         self.times.iterations = t.elapsed().as_secs_f64();
         Ok(Solution { state, solved })
     }

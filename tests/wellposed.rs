@@ -162,6 +162,32 @@ fn friction_holds_the_same_bodies() {
     }
 }
 
+/// Friction alone holds the Hertz body against a tangential load (a third
+/// of nu_f times the normal one): a frictionless first Tresca solve has no
+/// solution (the body slid away: 10,000 iterations and exit 3 before CF-FP
+/// started from sticking); it converges, and the friction force balances
+/// the tangential load. (At half of nu_f times the normal load a later
+/// Tresca bound of the plain fixed-point step still cannot hold the body.)
+#[test]
+fn friction_holds_a_body_under_a_tangential_load() {
+    let args = hertz_free_x(&["-friction", "coulomb", "-friction_coefficient", "0.3"]);
+    let args: Vec<&str> = args
+        .iter()
+        .map(|&a| if a == "0,-100" { "10,-100" } else { a })
+        .collect();
+    let (run, rep, _) = solve_rows("hertz tangential load, Coulomb", 2, &args);
+    assert_eq!(rep["converged"], true, "{}", run.stdout);
+    let tf = rep["tangential_force"].as_array().unwrap();
+    let tx = tf[0].as_f64().unwrap();
+    // The friction force on the obstacle: the tangential load.
+    assert!(
+        (tx - 80.0).abs() <= 1e-6 * 800.0,
+        "tangential force {tx}: {}",
+        run.stdout
+    );
+    assert!((num(&rep, "contact_force") - 800.0).abs() <= 1e-6 * 800.0);
+}
+
 /// Two disconnected parts, one clamped, the other resting on the obstacle
 /// under a traction: the free part is named by where it is.
 #[test]

@@ -2,7 +2,8 @@
 //! point of Tresca problems.
 //!
 //! Iteration m = 0: s^0 given (zero, i.e. a frictionless first Tresca solve,
-//! unless `-tresca_bound` says otherwise). Iteration m >= 0: solve the Tresca
+//! unless `-tresca_bound` says otherwise; infinite, a sticking first solve,
+//! when friction alone holds the body and a frictionless solve has none). Iteration m >= 0: solve the Tresca
 //! problem with bound s^m by UBR-TF, warm-started from the previous iterate,
 //! to the variable tolerance `eps_f^m = max(0.1^m, eps_f)` of section 7; then
 //! `s^{m+1} = nu_f |lambda_c^m|`. Every Tresca solve uses the same factorized
@@ -206,7 +207,11 @@ pub fn cf_fp<C: Communicator>(
             out.converged = true;
             break;
         }
-        match outer.as_mut() {
+        // A sticking start (infinite s^0) is no point of the map's
+        // history: the fixed point proper starts from s^1.
+        let sticking =
+            allreduce_sum(world, [s.iter().filter(|x| x.is_infinite()).count() as f64])[0] > 0.0;
+        match outer.as_mut().filter(|_| !sticking) {
             // Anderson on the outer map s -> nu_f |lambda_c(s)|; a bound is
             // never negative.
             Some(aa) => {

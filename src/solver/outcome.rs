@@ -227,12 +227,14 @@ fn comparator<C: Communicator>(
     Ok((state, solved))
 }
 
-/// Runs the algorithm the options ask for.
+/// Runs the algorithm the options ask for. `friction_held`: some rigid
+/// motion is held by friction alone (CF-FP then starts from sticking).
 pub fn solve<C: Communicator>(
     world: &C,
     local: &LocalMesh,
     settings: &Settings,
     problem: &mut Problem,
+    friction_held: bool,
     events: &Events,
 ) -> Result<(UbrState, Solved), Error> {
     if settings.algorithm != "ubr" {
@@ -290,7 +292,11 @@ pub fn solve<C: Communicator>(
         }
         Friction::Coulomb => {
             solved.name = "CF-FP";
-            let s0 = explicit.unwrap_or_else(|| vec![0.0; nc]);
+            // s^0 = 0 (the paper's frictionless first solve), unless
+            // friction alone holds the body: that solve has no solution
+            // then, and the first Tresca solve sticks (s^0 = infinity).
+            let stick = if friction_held { f64::INFINITY } else { 0.0 };
+            let s0 = explicit.unwrap_or_else(|| vec![stick; nc]);
             let fp = cf_fp::cf_fp(
                 world,
                 problem,

@@ -280,6 +280,10 @@ pub struct Restraint {
     /// Rigid motions that no Dirichlet condition restrains (orthonormal
     /// coefficients per body): null vectors of the Dirichlet-eliminated K.
     pub contact_held: Vec<Motion>,
+    /// Some rigid motion is held by friction alone (neither Dirichlet
+    /// conditions nor contact along n restrain it): a frictionless solve of
+    /// the scene has no solution.
+    pub friction_held: bool,
 }
 
 /// Checks that every rigid motion of every body is restrained, by Dirichlet
@@ -298,9 +302,9 @@ pub fn check<C: Communicator>(
     let d = mesh.dim;
     let k = modes(d);
     let nb = bodies.len();
-    // Per body: G_D (Dirichlet) then G_C (contact), k x k each, and the
-    // number of candidates.
-    let per = 2 * k * k + 1;
+    // Per body: G_D (Dirichlet), G_C (contact along n), G_T (friction),
+    // k x k each, and the number of candidates.
+    let per = 3 * k * k + 1;
     let mut g = vec![0.0; nb * per];
     let add = |g: &mut [f64], row: &[f64]| {
         for a in 0..k {
@@ -330,22 +334,27 @@ pub fn check<C: Communicator>(
         add(gc, &row[..k]);
         if friction {
             let normal = row;
+            let gt = &mut g[b * per + 2 * k * k..b * per + 3 * k * k];
             for c in 0..d {
                 for j in 0..k {
                     row[j] = basis[j][c] - normal[j] * n[c];
                 }
-                add(gc, &row[..k]);
+                add(gt, &row[..k]);
             }
         }
-        g[b * per + 2 * k * k] += 1.0;
+        g[b * per + 3 * k * k] += 1.0;
     }
     let g = allreduce_sum_vec(world, &g);
     let mut contact_held = Vec::new();
+    let mut friction_held = false;
     for b in 0..nb {
-        let gd = DMatrix::from_row_slice(k, k, &g[b * per..b * per + k * k]);
-        let gc = DMatrix::from_row_slice(k, k, &g[b * per + k * k..b * per + 2 * k * k]);
-        let candidates = g[b * per + 2 * k * k] as usize;
-        let all = &gd + &gc;
+        let block = |i: usize| {
+            DMatrix::from_row_slice(k, k, &g[b * per + i * k * k..b * per + (i + 1) * k * k])
+        };
+        let (gd, gc, gt) = (block(0), block(1), block(2));
+        let candidates = g[b * per + 3 * k * k] as usize;
+        let held_by_n = &gd + &gc;
+        let all = &held_by_n + &gt;
         let scale = all.trace().max(f64::MIN_POSITIVE);
         let free = null_space(&all, FREE_TOL * scale);
         if !free.is_empty() {
@@ -353,6 +362,7 @@ pub fn check<C: Communicator>(
                 &bodies, b, &free, candidates, friction, &gd,
             )));
         }
+        friction_held |= friction && !null_space(&held_by_n, FREE_TOL * scale).is_empty();
         for coef in null_space(&gd, FREE_TOL * scale) {
             contact_held.push(Motion { body: b, coef });
         }
@@ -360,6 +370,7 @@ pub fn check<C: Communicator>(
     Ok(Restraint {
         bodies,
         contact_held,
+        friction_held,
     })
 }
 
