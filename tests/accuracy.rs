@@ -159,6 +159,13 @@ const SCENES: &[Scene] = &[
         gamg_ranks: 1,
         comparators: None,
     },
+    Scene {
+        name: "stamp2d_gravity_coulomb",
+        ranks: &[1, 2],
+        tight_ranks: 2,
+        gamg_ranks: 1,
+        comparators: None,
+    },
 ];
 
 fn scene(name: &str) -> &'static Scene {
@@ -626,6 +633,7 @@ scene_tests!(
     crowned2d_coulomb,
     hemisphere3d_coulomb,
     disc3d_halfball_coulomb,
+    stamp2d_gravity_coulomb,
 );
 
 /// Every scene has tests, and every tests/scenes/*.opts is a scene here.
