@@ -214,3 +214,41 @@ $Elements\n7\n1 1 2 1 1 1 2\n2 1 2 2 2 4 3\n3 1 2 4 4 6 7\n4 2 2 3 3 1 2 3\n5 2 
         assert!(run.seconds < 60.0);
     }
 }
+
+/// `-mat_mumps_cntl_N` reaches MUMPS called directly, as `-mat_mumps_icntl_N`
+/// does: MUMPS' own statistics (ICNTL(3) = 6, ICNTL(4) = 2) show the BLR
+/// dropping parameter CNTL(7) given; the answer stays the default one to
+/// that accuracy; a value that is not a number is exit 2 naming the option.
+#[test]
+fn mumps_cntl_options_reach_mumps() {
+    let (_, _, reference) = solve_rows("cntl-default", 2, &block_plain(&[]));
+    let (run, _, blr) = solve_rows(
+        "cntl-blr",
+        2,
+        &block_plain(&[
+            "-mat_mumps_icntl_35",
+            "2",
+            "-mat_mumps_cntl_7",
+            "1e-9",
+            "-mat_mumps_icntl_3",
+            "6",
+            "-mat_mumps_icntl_4",
+            "2",
+        ]),
+    );
+    let line = run
+        .stdout
+        .lines()
+        .find(|l| l.contains("CNTL(7)"))
+        .unwrap_or_else(|| panic!("no CNTL(7) in MUMPS' statistics:\n{}", run.stdout));
+    assert!(line.contains("1.0E-09"), "{line}");
+    let g = max_pressure_gap(&blr, &reference);
+    assert!(g <= 1e-6, "BLR at 1e-9 moved the pressures by {g:.2e}");
+    let bad = mpirun(2, &block_plain(&["-mat_mumps_cntl_7", "abc"]));
+    assert_eq!(bad.status, Some(2), "{}", bad.stderr);
+    assert!(
+        bad.stderr.contains("-mat_mumps_cntl_7") && bad.stderr.contains("abc"),
+        "{}",
+        bad.stderr
+    );
+}

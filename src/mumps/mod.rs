@@ -125,6 +125,11 @@ impl Mumps {
         self.id.icntl[i - 1]
     }
 
+    /// Sets CNTL(i) (1-based).
+    pub fn set_cntl(&mut self, i: usize, v: f64) {
+        self.id.cntl[i - 1] = v;
+    }
+
     /// RINFOG(i) (1-based): e.g. 1 the flops of the elimination... (3: of the factorization).
     pub fn rinfog(&self, i: usize) -> f64 {
         self.id.rinfog[i - 1]

@@ -296,6 +296,14 @@ impl Direct {
                 mumps.set_icntl(i, v);
             }
         }
+        for i in 1..=15usize {
+            if let Some(v) = options::get_string(&format!("-mat_mumps_cntl_{i}"))? {
+                let v: f64 = v.trim().parse().map_err(|_| {
+                    Error::BadInput(format!("option -mat_mumps_cntl_{i}: '{v}' is not a number"))
+                })?;
+                mumps.set_cntl(i, v);
+            }
+        }
         // The contact nodes (global numbers), in the Schur order: rank by
         // rank, candidate by candidate.
         let mine: Vec<f64> = surface
