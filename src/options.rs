@@ -118,6 +118,8 @@ pub struct UbrSettings {
     pub anderson: usize,
     /// MUMPS called directly for the default direct solver (else through PETSc).
     pub mumps_direct: bool,
+    /// Iterative solvers: products with an SBAIJ copy of the operator.
+    pub sbaij: bool,
     /// Condense the UBR solve onto the contact unknowns when there are at
     /// most this many (None: the default of the dimension, see `-help`).
     pub condense_max: Option<usize>,
@@ -454,6 +456,7 @@ fn ubr_settings() -> Result<UbrSettings, Error> {
         monitor: UBR_MONITOR.get()?,
         anderson,
         mumps_direct: UBR_MUMPS_DIRECT.get()?,
+        sbaij: UBR_SBAIJ.get()?,
         condense_max: UBR_CONDENSE_MAX.count()?,
         dual_rtol: positive(
             UBR_DUAL_RTOL.name,

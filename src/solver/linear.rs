@@ -45,6 +45,10 @@ pub struct LinearSolver {
     /// `K + r_a B^T W B` with Dirichlet rows and columns eliminated (r_a: the
     /// assembled r).
     pub matrix: Matrix,
+    /// An iterative solver's operator for products, the same matrix in
+    /// symmetric block storage (`-ubr_sbaij`); the preconditioner is built
+    /// from `matrix`.
+    operator: Option<Matrix>,
     /// Right-hand side without contact terms, at the current r.
     pub rhs0: Vector,
     pub iterative: bool,
@@ -104,6 +108,7 @@ impl LinearSolver {
     pub fn new(
         engine: Engine,
         matrix: Matrix,
+        operator: Option<Matrix>,
         rhs0: Vector,
         iterative: bool,
         adaptive_inner: bool,
@@ -118,6 +123,7 @@ impl LinearSolver {
             engine,
             world: SimpleCommunicator::world(),
             matrix,
+            operator,
             rhs0,
             iterative,
             adaptive_inner,
@@ -447,8 +453,15 @@ impl LinearSolver {
             }
             let vals = super::contact_block(d, &cs.n, delta * cs.w[i], surface.tangential);
             self.matrix.add_values(&idx, &idx, &vals)?;
+            if let Some(op) = &self.operator {
+                // A node's block is a diagonal block, stored whole.
+                op.add_values(&idx, &idx, &vals)?;
+            }
         }
         self.matrix.assemble()?;
+        if let Some(op) = &self.operator {
+            op.assemble()?;
+        }
         surface.apply_contact_block(&self.xd_c, &mut col);
         col.iter_mut().for_each(|x| *x *= -delta);
         scatter_add(surface, &col, &self.rhs0)?;
@@ -457,7 +470,10 @@ impl LinearSolver {
                 if self.iterative {
                     ksp.set_reuse_preconditioner(true)?;
                 }
-                ksp.set_operators(&self.matrix)?;
+                match &self.operator {
+                    Some(op) => ksp.set_operators_split(op, &self.matrix)?,
+                    None => ksp.set_operators(&self.matrix)?,
+                }
                 if !self.iterative {
                     ksp.set_up()?; // the numeric factorization at r'
                 }
