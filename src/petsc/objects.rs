@@ -152,20 +152,8 @@ impl Matrix {
     ) -> Result<Matrix, Error> {
         assert_eq!(rowptr.len(), local + 1);
         assert_eq!(cols.len(), vals.len());
-        let mut raw: sys::Mat = std::ptr::null_mut();
+        let m = Matrix::empty(comm, local, sys::MATAIJ, Some(bs))?;
         unsafe {
-            check(sys::MatCreate(comm, &mut raw))?;
-            let m = Matrix { raw };
-            let n = local as sys::PetscInt;
-            check(sys::MatSetSizes(
-                m.raw,
-                n,
-                n,
-                sys::PETSC_DETERMINE,
-                sys::PETSC_DETERMINE,
-            ))?;
-            check(sys::MatSetBlockSize(m.raw, bs as sys::PetscInt))?;
-            check(sys::MatSetType(m.raw, sys::MATAIJ.as_ptr() as *const _))?;
             // Each is a no-op for the other type (one rank: seqaij, whose
             // column indices are then the global ones).
             check(sys::MatSeqAIJSetPreallocationCSR(
@@ -180,18 +168,42 @@ impl Matrix {
                 cols.as_ptr(),
                 vals.as_ptr(),
             ))?;
-            check(sys::MatSetOption(
+        }
+        m.set_flag(sys::MAT_NEW_NONZERO_ALLOCATION_ERR)?;
+        m.set_flag(sys::MAT_NO_OFF_PROC_ENTRIES)?;
+        Ok(m)
+    }
+
+    /// A matrix of type `ty` with `local` rows and columns on this rank,
+    /// not yet preallocated.
+    fn empty(
+        comm: sys::MPI_Comm,
+        local: usize,
+        ty: &[u8],
+        bs: Option<usize>,
+    ) -> Result<Matrix, Error> {
+        let mut raw: sys::Mat = std::ptr::null_mut();
+        unsafe {
+            check(sys::MatCreate(comm, &mut raw))?;
+            let m = Matrix { raw };
+            let n = local as sys::PetscInt;
+            check(sys::MatSetSizes(
                 m.raw,
-                sys::MAT_NEW_NONZERO_ALLOCATION_ERR,
-                sys::PETSC_TRUE,
+                n,
+                n,
+                sys::PETSC_DETERMINE,
+                sys::PETSC_DETERMINE,
             ))?;
-            check(sys::MatSetOption(
-                m.raw,
-                sys::MAT_NO_OFF_PROC_ENTRIES,
-                sys::PETSC_TRUE,
-            ))?;
+            if let Some(bs) = bs {
+                check(sys::MatSetBlockSize(m.raw, bs as sys::PetscInt))?;
+            }
+            check(sys::MatSetType(m.raw, ty.as_ptr() as *const _))?;
             Ok(m)
         }
+    }
+
+    fn set_flag(&self, option: sys::MatOption) -> Result<(), Error> {
+        unsafe { check(sys::MatSetOption(self.raw, option, sys::PETSC_TRUE)) }
     }
 
     /// Adds a dense block; rows given as -1 are skipped (PETSc ignores negative indices).
@@ -300,19 +312,8 @@ impl Matrix {
             }
             ii.push(jj.len() as sys::PetscInt);
         }
-        let mut raw: sys::Mat = std::ptr::null_mut();
+        let m = Matrix::empty(comm, n, sys::MATSBAIJ, None)?;
         unsafe {
-            check(sys::MatCreate(comm, &mut raw))?;
-            let m = Matrix { raw };
-            let nl = n as sys::PetscInt;
-            check(sys::MatSetSizes(
-                m.raw,
-                nl,
-                nl,
-                sys::PETSC_DETERMINE,
-                sys::PETSC_DETERMINE,
-            ))?;
-            check(sys::MatSetType(m.raw, sys::MATSBAIJ.as_ptr() as *const _))?;
             let b = bs as sys::PetscInt;
             // Each is a no-op for the other type (one rank: seqsbaij).
             check(sys::MatSeqSBAIJSetPreallocationCSR(
@@ -329,19 +330,11 @@ impl Matrix {
                 jj.as_ptr(),
                 vv.as_ptr(),
             ))?;
-            // Contact blocks added later (a change of r) come whole.
-            check(sys::MatSetOption(
-                m.raw,
-                sys::MAT_IGNORE_LOWER_TRIANGULAR,
-                sys::PETSC_TRUE,
-            ))?;
-            check(sys::MatSetOption(
-                m.raw,
-                sys::MAT_NO_OFF_PROC_ENTRIES,
-                sys::PETSC_TRUE,
-            ))?;
-            Ok(m)
         }
+        // Contact blocks added later (a change of r) come whole.
+        m.set_flag(sys::MAT_IGNORE_LOWER_TRIANGULAR)?;
+        m.set_flag(sys::MAT_NO_OFF_PROC_ENTRIES)?;
+        Ok(m)
     }
 
     /// `y = A x`.
