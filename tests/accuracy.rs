@@ -22,7 +22,7 @@
 //! `UBR_ACCURACY_BIN=/path/to/ubr-petsc` runs the scenes with another binary
 //! (e.g. an older build, for a before/after comparison).
 mod common;
-use common::root;
+use common::{mpi_command, root};
 use serde_json::Value;
 use std::collections::hash_map::DefaultHasher;
 use std::collections::HashMap;
@@ -337,14 +337,8 @@ fn run(name: &'static str, ranks: usize, extra: &[&str]) -> Solution {
     args.extend_from_slice(&["-report", rep.to_str().unwrap()]);
     args.extend_from_slice(&["-contact_output", csv.to_str().unwrap()]);
     let t = Instant::now();
-    let out = Command::new("mpirun")
-        .current_dir(root())
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
-        .env("OPENBLAS_NUM_THREADS", "1")
-        .env("OMP_NUM_THREADS", "1")
-        .env_remove("PETSC_OPTIONS")
+    let (mut cmd, _session) = mpi_command("mpirun");
+    let out = cmd
         .args(["-n", &ranks.to_string(), &binary()])
         .args(&args)
         .output()

@@ -163,11 +163,8 @@ fn sigterm_leaves_no_partial_output() {
     let dir = scratch("sigterm");
     let out = |n: &str| dir.join(n).to_str().unwrap().to_string();
     let (rep, csv, vtk, png) = (out("r.json"), out("c.csv"), out("v.pvtu"), out("p.png"));
-    let mut child = Command::new("mpirun")
-        .current_dir(root())
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
+    let (mut cmd, _session) = mpi_command("mpirun");
+    let mut child = cmd
         .args([
             "-n",
             "2",

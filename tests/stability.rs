@@ -21,7 +21,6 @@ use common::*;
 
 use serde_json::Value;
 use std::collections::HashMap;
-use std::process::Command;
 use std::sync::OnceLock;
 use std::time::Instant;
 
@@ -103,14 +102,8 @@ fn run(name: &str, ranks: usize, args: &[&str]) -> Case {
     let rep = dir.join("report.json");
     let csv = dir.join("contact.csv");
     let t = Instant::now();
-    let out = Command::new("timeout")
-        .current_dir(root())
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
-        .env("OPENBLAS_NUM_THREADS", "1")
-        .env("OMP_NUM_THREADS", "1")
-        .env_remove("PETSC_OPTIONS")
+    let (mut cmd, _session) = mpi_command("timeout");
+    let out = cmd
         .args([
             "-k",
             "10",

@@ -4,6 +4,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 pub const BIN: &str = env!("CARGO_BIN_EXE_ubr-petsc");
@@ -27,19 +28,46 @@ pub struct Run {
     pub seconds: f64,
 }
 
-/// Runs `mpirun -n ranks ubr-petsc args...` from the repository root.
-pub fn mpirun(ranks: usize, args: &[&str]) -> Run {
-    let t = Instant::now();
-    let mut cmd = Command::new("mpirun");
+/// An Open MPI session directory of one run, removed when dropped.
+pub struct SessionDir(PathBuf);
+
+impl Drop for SessionDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// `program` (mpirun, or a wrapper of it) from the repository root with the
+/// tests' MPI environment and an Open MPI session directory of its own,
+/// kept while the guard lives. Open MPI 4.1 keeps every session under one
+/// `/tmp/ompi.HOST.UID`, which runs starting and ending together race to
+/// create and remove (seen in CI: "A call to mkdir was unable to create the
+/// desired directory ... File exists", orte_init failed, exit 1).
+pub fn mpi_command(program: &str) -> (Command, SessionDir) {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let dir = std::env::temp_dir().join(format!(
+        "ubr-ompi-{}-{}",
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::SeqCst)
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut cmd = Command::new(program);
     cmd.current_dir(root())
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
         .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
+        .env("OMPI_MCA_orte_tmpdir_base", &dir)
         .env("OPENBLAS_NUM_THREADS", "1")
         .env("OMP_NUM_THREADS", "1")
-        .env_remove("PETSC_OPTIONS")
-        .args(["-n", &ranks.to_string(), BIN])
-        .args(args);
+        .env_remove("PETSC_OPTIONS");
+    (cmd, SessionDir(dir))
+}
+
+/// Runs `mpirun -n ranks ubr-petsc args...` from the repository root.
+pub fn mpirun(ranks: usize, args: &[&str]) -> Run {
+    let t = Instant::now();
+    let (mut cmd, _session) = mpi_command("mpirun");
+    cmd.args(["-n", &ranks.to_string(), BIN]).args(args);
     let out: Output = cmd.output().expect("mpirun runs");
     Run {
         status: out.status.code(),
