@@ -114,7 +114,7 @@ pub fn facet_measure(pts: &[&[f64]]) -> f64 {
 /// The neighbours of each owned node (the nodes it shares a cell with,
 /// itself included), in compressed rows sorted by global number: the
 /// neighbours of owned node a are `nbr[ptr[a]..ptr[a + 1]]` (local numbers).
-fn node_adjacency(mesh: &LocalMesh) -> (Vec<usize>, Vec<u32>) {
+pub(crate) fn node_adjacency(mesh: &LocalMesh) -> (Vec<usize>, Vec<u32>) {
     let nown = mesh.owned_count;
     let mut count = vec![1usize; nown]; // itself
     for cell in &mesh.cells {
@@ -146,21 +146,23 @@ fn node_adjacency(mesh: &LocalMesh) -> (Vec<usize>, Vec<u32>) {
             }
         }
     }
-    // Sort and deduplicate each row, compacting in place.
+    // Deduplicate each row (a mark per node: the last row that saw it),
+    // then sort the few left by global number, compacting in place.
+    let mut mark = vec![u32::MAX; mesh.node_global.len()];
     let mut out = 0;
     let mut start = 0;
     for a in 0..nown {
         let end = ptr[a + 1];
-        let row = &mut nbr[start..end];
-        row.sort_unstable_by_key(|&b| mesh.node_global[b as usize]);
         let mut len = 0;
-        for i in 0..row.len() {
-            if i == 0 || row[i] != row[len - 1] {
-                row[len] = row[i];
+        for i in start..end {
+            let b = nbr[i];
+            if mark[b as usize] != a as u32 {
+                mark[b as usize] = a as u32;
+                nbr[out + len] = b;
                 len += 1;
             }
         }
-        nbr.copy_within(start..start + len, out);
+        nbr[out..out + len].sort_unstable_by_key(|&b| mesh.node_global[b as usize]);
         start = end;
         ptr[a] = out;
         out += len;

@@ -102,25 +102,17 @@ fn metis_order<C: Communicator>(
 ) -> Result<Vec<i32>, Error> {
     let d = mesh.dim;
     // Each owned node's neighbours (global numbers), gathered on the host.
-    let mut adj: Vec<Vec<usize>> = vec![Vec::new(); mesh.owned_count];
-    for cell in &mesh.cells {
-        for &a in cell {
-            if a < mesh.owned_count {
-                adj[a].extend(
-                    cell.iter()
-                        .filter(|&&b| b != a)
-                        .map(|&b| mesh.node_global[b]),
-                );
-            }
-        }
-    }
-    let mut flat: Vec<f64> = Vec::new(); // node, count, neighbours... (exact in f64)
-    for (a, list) in adj.iter_mut().enumerate() {
-        list.sort_unstable();
-        list.dedup();
+    let (ptr, nbr) = crate::fem::node_adjacency(mesh);
+    let mut flat: Vec<f64> = Vec::with_capacity(nbr.len() + mesh.owned_count); // node, count, neighbours... (exact in f64)
+    for a in 0..mesh.owned_count {
+        let row = &nbr[ptr[a]..ptr[a + 1]];
         flat.push(mesh.node_global[a] as f64);
-        flat.push(list.len() as f64);
-        flat.extend(list.iter().map(|&b| b as f64));
+        flat.push((row.len() - 1) as f64); // itself excluded
+        flat.extend(
+            row.iter()
+                .filter(|&&b| b as usize != a)
+                .map(|&b| mesh.node_global[b as usize] as f64),
+        );
     }
     let layout = Layout::new(world, flat.len());
     let all = layout.gather(world, &flat);
@@ -450,6 +442,48 @@ impl Direct {
                 .scatter(world, part, &mut cols[j * local..(j + 1) * local]);
         }
         self.all = all;
+        Ok(())
+    }
+
+    /// The Schur components of the solution of `K_r u = b` (b: this rank's
+    /// rows), this rank's part (candidate by candidate) into `x`: the
+    /// condensation (forward elimination, ICNTL(26) = 1) and a dense solve
+    /// with S at the assembled r, without the expansion (the backward pass
+    /// over the factors, half a full solve's time) that only the other
+    /// unknowns need.
+    pub fn solve_contact_part<C: Communicator>(
+        &mut self,
+        world: &C,
+        b: &[f64],
+        x: &mut [f64],
+    ) -> Result<(), Error> {
+        let _e = self.ev_solve.begin();
+        let n = self.dofs.total();
+        let host = world.rank() == 0;
+        let mut all = std::mem::take(&mut self.all);
+        if host {
+            all.resize(n, 0.0);
+        }
+        self.dofs
+            .gather_into(world, b, if host { &mut all[..n] } else { &mut [][..] });
+        let sp = self.schur.as_mut().expect("condensed");
+        let r = self.mumps.solve(&mut all, 1, 1);
+        self.all = all;
+        r?;
+        let mut status = 0.0f64;
+        if host {
+            let s = sp.s.as_ref().expect("the host has S");
+            if s.solve(&self.mumps.redrhs_mut()[..sp.m], &mut sp.sol)
+                .is_err()
+            {
+                status = 1.0;
+            }
+        }
+        world.process_at_rank(0).broadcast_into(&mut status);
+        if status != 0.0 {
+            return Err(Error::LinearSolver("the dense Schur solve failed".into()));
+        }
+        sp.layout.scatter(world, &sp.sol, x);
         Ok(())
     }
 

@@ -173,14 +173,10 @@ impl LinearSolver {
     }
 
     /// Turns the condensed solves on (a direct engine factorized with the
-    /// Schur complement on the components `comps` of the candidates): solves
-    /// for `y0` (one full solve), whose contact part is `u_C` of rhs0.
-    pub fn condense(
-        &mut self,
-        surface: &Surface,
-        u: &Vector,
-        comps: &[usize],
-    ) -> Result<(), Error> {
+    /// Schur complement on the components `comps` of the candidates): `y0`,
+    /// the Schur components of `u_C` for rhs0, from one condensation and a
+    /// dense solve (no expansion).
+    pub fn condense(&mut self, surface: &Surface, comps: &[usize]) -> Result<(), Error> {
         let m = match &self.engine {
             Engine::Direct(d) if d.is_condensed() => d.schur_size(),
             _ => {
@@ -189,22 +185,17 @@ impl LinearSolver {
                 ))
             }
         };
-        self.full_solve(false, u)?;
-        let mut uc = vec![0.0; surface.len() * surface.dim];
-        extract(surface, u, &mut uc)?;
+        self.solves += 1;
+        let b = self.rhs0.read(|b| b.to_vec())?;
+        let mut y0 = vec![0.0; surface.len() * comps.len()];
+        if let Engine::Direct(d) = &mut self.engine {
+            d.solve_contact_part(&self.world, &b, &mut y0)?;
+        }
         self.comps = comps.to_vec();
-        let y0 = self.pick(&uc);
         self.y0 = Some((y0.clone(), y0));
         self.description
             .push_str(&format!(", condensed on the {m} contact unknowns"));
         Ok(())
-    }
-
-    /// The Schur components of a contact vector (candidate by candidate).
-    fn pick(&self, v: &[f64]) -> Vec<f64> {
-        let mut out = Vec::new();
-        pick_into(self.dim, &self.comps, v, &mut out);
-        out
     }
 
     /// The Schur components of the candidates, when condensed.

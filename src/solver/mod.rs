@@ -498,7 +498,6 @@ impl Problem {
             matrix_mallocs,
         };
         if condense {
-            let work = problem.lin.rhs0.duplicate()?;
             let Problem {
                 lin,
                 contact,
@@ -511,7 +510,7 @@ impl Problem {
                 tangential,
                 dirichlet: contact_dirichlet,
             };
-            lin.condense(&surface, &work, &comps)?;
+            lin.condense(&surface, &comps)?;
         }
         drop(guard);
         problem.time_factorization = t1.elapsed().as_secs_f64();
