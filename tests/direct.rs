@@ -252,3 +252,55 @@ fn mumps_cntl_options_reach_mumps() {
         bad.stderr
     );
 }
+
+/// MUMPS' input leaves out the zeroed Dirichlet couplings (exact zeros
+/// between two nodes); a change of r refactorizes with the same entries.
+/// On a scene whose automatic r moves 3.9x from the trial (the full
+/// back-end refactorizes), with Dirichlet data on its top: the direct
+/// back-end's r, iterations and pressures are PETSc's KSP path's (which
+/// factorizes the whole pattern), on 1, 2 and 3 ranks. (What it saves:
+/// bench/README.md, block3d_17887 5.45e10 -> 4.78e10 flops.)
+#[test]
+fn refactorization_of_the_trimmed_input() {
+    let dir = scratch("trimmed-mesh");
+    std::fs::create_dir_all(&dir).unwrap();
+    let msh = dir.join("slab2d_ball_pen.msh");
+    let run = std::process::Command::new("gmsh")
+        .args(["-2", "-format", "msh22", "-o"])
+        .arg(&msh)
+        .arg(root().join("tests/scenes/slab2d_ball_pen.geo"))
+        .output()
+        .expect("gmsh runs (apt-get install gmsh)");
+    assert!(run.status.success() && msh.exists(), "gmsh failed");
+    let msh = msh.to_str().unwrap().to_string();
+    let base = [
+        "-options_file",
+        "tests/scenes/slab2d_ball_pen.opts",
+        "-mesh",
+        &msh,
+        "-ubr_condense_max",
+        "0",
+    ];
+    let mut ksp = base.to_vec();
+    ksp.extend_from_slice(&["-ubr_mumps_direct", "0"]);
+    let (run_k, rk, k) = solve_rows("trimmed-ksp", 1, &ksp);
+    assert!(run_k.stdout.contains("refactorized"), "{}", run_k.stdout);
+    for ranks in [1, 2, 3] {
+        let (run, rd, dm) = solve_rows(&format!("trimmed-direct-{ranks}"), ranks, &base);
+        assert!(
+            run.stdout.contains("MUMPS Cholesky, called directly")
+                && run.stdout.contains("refactorized"),
+            "{}",
+            run.stdout
+        );
+        assert_eq!(rd["iterations"], rk["iterations"], "-n {ranks}");
+        let (r_d, r_k) = (num(&rd, "r"), num(&rk, "r"));
+        assert!(
+            (r_d - r_k).abs() <= 1e-8 * r_k,
+            "-n {ranks}: r {r_d} against {r_k}"
+        );
+        let g = max_pressure_gap(&dm, &k);
+        assert!(g <= 1e-10, "-n {ranks}: direct and KSP differ by {g:.2e}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -71,24 +71,40 @@ pub struct Direct {
     /// Host: the gathered right-hand sides of a full solve, kept between
     /// solves.
     all: Vec<f64>,
+    /// Which of this rank's lower-triangle entries MUMPS has
+    /// ([`lower_triplets`]).
+    kept: Vec<bool>,
 }
 
-/// This rank's lower-triangle entries of `a` (1-based) and its row counts.
 /// Rows, columns (1-based) and values of matrix entries.
 type Triplets = (Vec<i32>, Vec<i32>, Vec<f64>);
 
-fn lower_triplets(a: &Matrix) -> Result<Triplets, Error> {
+/// This rank's lower-triangle entries of `a` (1-based) that MUMPS gets, and
+/// for every lower-triangle entry in row order whether it is one of them.
+/// Left out: the exact zeros that couple two nodes (`d` dofs a node), i.e.
+/// the couplings of the Dirichlet rows and columns that
+/// `MatZeroRowsColumns` zeroed but kept in the pattern: given to MUMPS they
+/// are fill it factorizes (block3d_17887: 5.45e10 -> 4.78e10 flops). A
+/// node's own block is kept whole: a change of r adds to those blocks only,
+/// so what is left out stays zero at a refactorization.
+fn lower_triplets(a: &Matrix, d: usize) -> Result<(Triplets, Vec<bool>), Error> {
     let (mut irn, mut jcn, mut val) = (Vec::new(), Vec::new(), Vec::new());
+    let mut kept = Vec::new();
     a.for_each_owned_row(|row, cols, vals| {
         for (&c, &v) in cols.iter().zip(vals) {
-            if c as usize <= row {
-                irn.push(row as i32 + 1);
-                jcn.push(c + 1);
-                val.push(v);
+            let c = c as usize;
+            if c <= row {
+                let keep = v != 0.0 || c / d == row / d;
+                kept.push(keep);
+                if keep {
+                    irn.push(row as i32 + 1);
+                    jcn.push(c as i32 + 1);
+                    val.push(v);
+                }
             }
         }
     })?;
-    Ok((irn, jcn, val))
+    Ok(((irn, jcn, val), kept))
 }
 
 /// PERM_IN on the host (empty elsewhere): METIS nested dissection of the
@@ -270,7 +286,7 @@ impl Direct {
         let d = mesh.dim;
         let n = mesh.global_nodes * d;
         let ev_init = LogEvent::register("MUMPSInit")?.begin();
-        let (irn, jcn, val) = lower_triplets(a)?;
+        let ((irn, jcn, val), kept) = lower_triplets(a, d)?;
         let mut mumps = Mumps::new(crate::petsc::comm_world(), world.rank(), true)?;
         drop(ev_init);
         mumps.set_matrix(n, irn, jcn, val);
@@ -369,6 +385,7 @@ impl Direct {
             flops,
             ordering,
             all: Vec::new(),
+            kept,
         })
     }
 
@@ -576,18 +593,32 @@ impl Direct {
         Ok(())
     }
 
-    /// Refactorizes after the values of `a` changed (same pattern).
+    /// Refactorizes after the values of `a` changed (same pattern; the
+    /// entries left out of MUMPS' input still zero).
     pub fn refactorize<C: Communicator>(&mut self, world: &C, a: &Matrix) -> Result<(), Error> {
         let vals = self.mumps.values_mut();
-        let mut k = 0;
+        let (mut k, mut j, mut lost) = (0, 0, false);
+        let kept = &self.kept;
         a.for_each_owned_row(|row, cols, v| {
             for (&c, &x) in cols.iter().zip(v) {
                 if c as usize <= row {
-                    vals[k] = x;
+                    if kept[k] {
+                        vals[j] = x;
+                        j += 1;
+                    } else if x != 0.0 {
+                        lost = true;
+                    }
                     k += 1;
                 }
             }
         })?;
+        // Collective: every rank returns, none waits in MUMPS.
+        let [lost] = super::allreduce_sum(world, [if lost { 1.0 } else { 0.0 }]);
+        if lost > 0.0 {
+            return Err(Error::Internal(
+                "an entry left out of MUMPS' input is no longer zero".into(),
+            ));
+        }
         {
             let _e = self.ev_factor.begin();
             self.mumps.factorize()?;
