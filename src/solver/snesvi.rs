@@ -11,7 +11,7 @@ use super::surface::UbrState;
 use super::ubr::UbrOutcome;
 use super::{allreduce_sum, Problem};
 use crate::error::{bad, Error};
-use crate::petsc::{comm_world, options, sys, Matrix, Snes};
+use crate::petsc::{options, Snes};
 use mpi::traits::*;
 
 /// Bounds above and below every value (PETSc's SNES_VI_INF is 1e20).
@@ -74,7 +74,7 @@ pub fn snes_vi<C: Communicator>(
             })
         })
     })???;
-    let matrix = without_zero_couplings(&problem.lin.matrix, d)?;
+    let matrix = super::without_zero_couplings(&problem.lin.matrix, d)?;
     let snes = Snes::new_vi(&matrix, &problem.lin.rhs0, &lower, &upper)?;
     let (its, lits) = snes.solve(&state.u)?;
     state.inner_iterations.push(lits);
@@ -112,27 +112,4 @@ pub fn snes_vi<C: Communicator>(
         contact: contact as usize,
         ..Default::default()
     })
-}
-
-/// A copy of `a` without the exact zeros that couple two nodes (`d` dofs a
-/// node): the couplings of the Dirichlet rows and columns, which
-/// `MatZeroRowsColumns` zeroes but keeps in the pattern. PETSc's MUMPS
-/// would factorize them as fill; the direct back-end of UBR leaves them out
-/// of its input too (block3d_17887: SNES VI 13.2 -> 11.7 s), so that the
-/// comparison is on equal matrices.
-fn without_zero_couplings(a: &Matrix, d: usize) -> Result<Matrix, Error> {
-    let (mut rowptr, mut cols, mut vals): (Vec<sys::PetscInt>, Vec<sys::PetscInt>, Vec<f64>) =
-        (vec![0], Vec::new(), Vec::new());
-    a.for_each_owned_row(|row, cs, vs| {
-        for (&c, &v) in cs.iter().zip(vs) {
-            if v != 0.0 || c as usize / d == row / d {
-                cols.push(c);
-                vals.push(v);
-            }
-        }
-        rowptr.push(cols.len() as sys::PetscInt);
-    })?;
-    let m = Matrix::new_aij_csr(comm_world(), rowptr.len() - 1, d, &rowptr, &cols, &vals)?;
-    m.set_spd()?;
-    Ok(m)
 }

@@ -45,7 +45,10 @@ pub fn ssn_c<C: Communicator>(
     let r = ctl.r;
     let root = world.rank() == 0;
     let lambda_hat = 0.0;
-    let a = problem.lin.matrix.duplicate()?;
+    // The matrix without the zeroed Dirichlet couplings (as UBR's direct
+    // back-end factorizes it); the contact terms go to the nodes' own blocks.
+    let base = super::without_zero_couplings(&problem.lin.matrix, d)?;
+    let a = base.duplicate()?;
     let (ksp, description, iterative) = linear_solver(&a, mesh)?;
     let work = problem.lin.rhs0.duplicate()?;
     let rhs = problem.lin.rhs0.duplicate()?;
@@ -115,7 +118,7 @@ pub fn ssn_c<C: Communicator>(
         // (4) K + r B_A^T W B_A, same pattern as K: numeric factorization only.
         {
             let _e = events.rhs.begin();
-            a.copy_from(&problem.lin.matrix)?;
+            a.copy_from(&base)?;
             let g0 = mesh.owned_start * d;
             let mut idx = Vec::with_capacity(d);
             let mut vals = Vec::with_capacity(d * d);
