@@ -262,17 +262,7 @@ fn mumps_cntl_options_reach_mumps() {
 /// bench/README.md, block3d_17887 5.45e10 -> 4.78e10 flops.)
 #[test]
 fn refactorization_of_the_trimmed_input() {
-    let dir = scratch("trimmed-mesh");
-    std::fs::create_dir_all(&dir).unwrap();
-    let msh = dir.join("slab2d_ball_pen.msh");
-    let run = std::process::Command::new("gmsh")
-        .args(["-2", "-format", "msh22", "-o"])
-        .arg(&msh)
-        .arg(root().join("tests/scenes/slab2d_ball_pen.geo"))
-        .output()
-        .expect("gmsh runs (apt-get install gmsh)");
-    assert!(run.status.success() && msh.exists(), "gmsh failed");
-    let msh = msh.to_str().unwrap().to_string();
+    let (dir, msh) = gmsh_2d("trimmed-mesh", "tests/scenes/slab2d_ball_pen.geo");
     let base = [
         "-options_file",
         "tests/scenes/slab2d_ball_pen.opts",

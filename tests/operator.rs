@@ -3,7 +3,6 @@
 //! from the AIJ matrix: the answers are the AIJ products' answers.
 mod common;
 use common::*;
-use std::process::Command;
 
 /// UBR with CG + GAMG, SBAIJ products against AIJ products, on 1, 2 and 3
 /// ranks: the same r (to rounding), UBR and CG iteration counts (to 2) and
@@ -13,17 +12,7 @@ use std::process::Command;
 /// the matrix after the preconditioner is built: the copy must follow).
 #[test]
 fn sbaij_products_equal_aij_products() {
-    let dir = scratch("sbaij-mesh");
-    std::fs::create_dir_all(&dir).unwrap();
-    let msh = dir.join("slab2d_ball_pen.msh");
-    let run = Command::new("gmsh")
-        .args(["-2", "-format", "msh22", "-o"])
-        .arg(&msh)
-        .arg(root().join("tests/scenes/slab2d_ball_pen.geo"))
-        .output()
-        .expect("gmsh runs (apt-get install gmsh)");
-    assert!(run.status.success() && msh.exists(), "gmsh failed");
-    let msh = msh.to_str().unwrap().to_string();
+    let (dir, msh) = gmsh_2d("sbaij-mesh", "tests/scenes/slab2d_ball_pen.geo");
     let scenes: [(&str, Vec<&str>); 2] = [
         (
             "block3d",

@@ -270,6 +270,18 @@ fn choose_ordering<C: Communicator>(
     ))
 }
 
+/// A failure found on the host only (`failed` is read there), made
+/// collective: every rank returns the same error, none waits in a later
+/// collective call.
+fn host_verdict<C: Communicator>(world: &C, failed: bool, what: &str) -> Result<(), Error> {
+    let mut status = if failed { 1.0f64 } else { 0.0 };
+    world.process_at_rank(0).broadcast_into(&mut status);
+    if status != 0.0 {
+        return Err(Error::LinearSolver(what.into()));
+    }
+    Ok(())
+}
+
 impl Direct {
     /// Analyses and factorizes `a` (the assembled `K_r`), with the Schur
     /// complement on the contact unknowns when `condense`.
@@ -356,12 +368,11 @@ impl Direct {
                     Err(_) => status = 1.0,
                 }
             }
-            world.process_at_rank(0).broadcast_into(&mut status);
-            if status != 0.0 {
-                return Err(Error::LinearSolver(
-                    "the dense factorization of the Schur complement failed".into(),
-                ));
-            }
+            host_verdict(
+                world,
+                status != 0.0,
+                "the dense factorization of the Schur complement failed",
+            )?;
             Some(SchurPart {
                 m,
                 layout: Layout::new(world, surface.cs.len() * comps.len()),
@@ -442,10 +453,7 @@ impl Direct {
                         red[j * m..(j + 1) * m].copy_from_slice(&sp.sol);
                     }
                 }
-                world.process_at_rank(0).broadcast_into(&mut status);
-                if status != 0.0 {
-                    return Err(Error::LinearSolver("the dense Schur solve failed".into()));
-                }
+                host_verdict(world, status != 0.0, "the dense Schur solve failed")?;
                 self.mumps.solve(&mut all, k, 2)?;
             }
         }
@@ -487,19 +495,12 @@ impl Direct {
         let r = self.mumps.solve(&mut all, 1, 1);
         self.all = all;
         r?;
-        let mut status = 0.0f64;
-        if host {
+        let failed = host && {
             let s = sp.s.as_ref().expect("the host has S");
-            if s.solve(&self.mumps.redrhs_mut()[..sp.m], &mut sp.sol)
+            s.solve(&self.mumps.redrhs_mut()[..sp.m], &mut sp.sol)
                 .is_err()
-            {
-                status = 1.0;
-            }
-        }
-        world.process_at_rank(0).broadcast_into(&mut status);
-        if status != 0.0 {
-            return Err(Error::LinearSolver("the dense Schur solve failed".into()));
-        }
+        };
+        host_verdict(world, failed, "the dense Schur solve failed")?;
         sp.layout.scatter(world, &sp.sol, x);
         Ok(())
     }
@@ -515,21 +516,15 @@ impl Direct {
         let _e = self.ev_schur.begin();
         let sp = self.schur.as_mut().expect("condensed");
         sp.layout.gather_into(world, c, &mut sp.rhs);
-        let mut status = 0.0f64;
-        if world.rank() == 0 {
+        let failed = world.rank() == 0 && {
             let s = sp
                 .shifted
                 .as_ref()
                 .or(sp.s.as_ref())
                 .expect("the host has S");
-            if s.solve(&sp.rhs, &mut sp.sol).is_err() {
-                status = 1.0;
-            }
-        }
-        world.process_at_rank(0).broadcast_into(&mut status);
-        if status != 0.0 {
-            return Err(Error::LinearSolver("the dense Schur solve failed".into()));
-        }
+            s.solve(&sp.rhs, &mut sp.sol).is_err()
+        };
+        host_verdict(world, failed, "the dense Schur solve failed")?;
         sp.layout.scatter(world, &sp.sol, x);
         Ok(())
     }
@@ -584,12 +579,11 @@ impl Direct {
                 Err(_) => status = 1.0,
             }
         }
-        world.process_at_rank(0).broadcast_into(&mut status);
-        if status != 0.0 {
-            return Err(Error::LinearSolver(
-                "the factorization of the shifted Schur complement failed".into(),
-            ));
-        }
+        host_verdict(
+            world,
+            status != 0.0,
+            "the factorization of the shifted Schur complement failed",
+        )?;
         Ok(())
     }
 
@@ -633,12 +627,11 @@ impl Direct {
                     Err(_) => status = 1.0,
                 }
             }
-            world.process_at_rank(0).broadcast_into(&mut status);
-            if status != 0.0 {
-                return Err(Error::LinearSolver(
-                    "the dense factorization of the Schur complement failed".into(),
-                ));
-            }
+            host_verdict(
+                world,
+                status != 0.0,
+                "the dense factorization of the Schur complement failed",
+            )?;
             sp.shifted = None;
         }
         Ok(())

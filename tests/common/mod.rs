@@ -21,6 +21,24 @@ pub fn scratch(name: &str) -> PathBuf {
     d
 }
 
+/// A 2D Gmsh scene meshed into a fresh scratch directory: `geo` (relative
+/// to the repository) into `<scratch>/<stem>.msh`, format 2.2. Returns the
+/// directory and the mesh's path.
+pub fn gmsh_2d(name: &str, geo: &str) -> (PathBuf, String) {
+    let dir = scratch(name);
+    let stem = Path::new(geo).file_stem().unwrap().to_str().unwrap();
+    let msh = dir.join(format!("{stem}.msh"));
+    let run = Command::new("gmsh")
+        .args(["-2", "-format", "msh22", "-o"])
+        .arg(&msh)
+        .arg(root().join(geo))
+        .output()
+        .expect("gmsh runs (apt-get install gmsh)");
+    assert!(run.status.success() && msh.exists(), "gmsh failed on {geo}");
+    let msh = msh.to_str().unwrap().to_string();
+    (dir, msh)
+}
+
 pub struct Run {
     pub status: Option<i32>,
     pub stdout: String,
