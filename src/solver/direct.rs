@@ -79,14 +79,9 @@ pub struct Direct {
 /// Rows, columns (1-based) and values of matrix entries.
 type Triplets = (Vec<i32>, Vec<i32>, Vec<f64>);
 
-/// This rank's lower-triangle entries of `a` (1-based) that MUMPS gets, and
-/// for every lower-triangle entry in row order whether it is one of them.
-/// Left out: the exact zeros that couple two nodes (`d` dofs a node), i.e.
-/// the couplings of the Dirichlet rows and columns that
-/// `MatZeroRowsColumns` zeroed but kept in the pattern: given to MUMPS they
-/// are fill it factorizes (block3d_17887: 5.45e10 -> 4.78e10 flops). A
-/// node's own block is kept whole: a change of r adds to those blocks only,
-/// so what is left out stays zero at a refactorization.
+/// This rank's lower-triangle entries of `a` (1-based) that MUMPS gets
+/// (those [`super::factorized_entry`] keeps), and for every lower-triangle
+/// entry in row order whether it is one of them (for [`Direct::refactorize`]).
 fn lower_triplets(a: &Matrix, d: usize) -> Result<(Triplets, Vec<bool>), Error> {
     let (mut irn, mut jcn, mut val) = (Vec::new(), Vec::new(), Vec::new());
     let mut kept = Vec::new();
@@ -94,7 +89,7 @@ fn lower_triplets(a: &Matrix, d: usize) -> Result<(Triplets, Vec<bool>), Error> 
         for (&c, &v) in cols.iter().zip(vals) {
             let c = c as usize;
             if c <= row {
-                let keep = v != 0.0 || c / d == row / d;
+                let keep = super::factorized_entry(row, c, v, d);
                 kept.push(keep);
                 if keep {
                     irn.push(row as i32 + 1);
@@ -409,19 +404,12 @@ impl Direct {
         self.schur.as_ref().map_or(0, |s| s.m)
     }
 
-    /// Solves `K_r X = B` for `k` right-hand sides: this rank's rows of each
-    /// column, column-major (`local * k`), overwritten by the solutions.
-    pub fn solve_full<C: Communicator>(
-        &mut self,
-        world: &C,
-        cols: &mut [f64],
-        k: usize,
-    ) -> Result<(), Error> {
-        let _e = self.ev_solve.begin();
-        let local = cols.len() / k.max(1);
-        let n = self.dofs.total();
+    /// The `k` columns of `cols` (this rank's rows of each, column-major)
+    /// gathered on the host, column by column in rank order, into the
+    /// buffer kept between solves (to be put back in `self.all`).
+    fn gather_columns<C: Communicator>(&mut self, world: &C, cols: &[f64], k: usize) -> Vec<f64> {
+        let (local, n) = (cols.len() / k.max(1), self.dofs.total());
         let host = world.rank() == 0;
-        // Gather column by column (each in rank order).
         let mut all = std::mem::take(&mut self.all);
         if host {
             all.resize(n * k, 0.0);
@@ -435,6 +423,22 @@ impl Direct {
             self.dofs
                 .gather_into(world, &cols[j * local..(j + 1) * local], dst);
         }
+        all
+    }
+
+    /// Solves `K_r X = B` for `k` right-hand sides: this rank's rows of each
+    /// column, column-major (`local * k`), overwritten by the solutions.
+    pub fn solve_full<C: Communicator>(
+        &mut self,
+        world: &C,
+        cols: &mut [f64],
+        k: usize,
+    ) -> Result<(), Error> {
+        let _e = self.ev_solve.begin();
+        let local = cols.len() / k.max(1);
+        let n = self.dofs.total();
+        let host = world.rank() == 0;
+        let mut all = self.gather_columns(world, cols, k);
         match &mut self.schur {
             None => self.mumps.solve(&mut all, k, 0)?,
             Some(sp) => {
@@ -483,14 +487,8 @@ impl Direct {
         x: &mut [f64],
     ) -> Result<(), Error> {
         let _e = self.ev_solve.begin();
-        let n = self.dofs.total();
         let host = world.rank() == 0;
-        let mut all = std::mem::take(&mut self.all);
-        if host {
-            all.resize(n, 0.0);
-        }
-        self.dofs
-            .gather_into(world, b, if host { &mut all[..n] } else { &mut [][..] });
+        let mut all = self.gather_columns(world, b, 1);
         let sp = self.schur.as_mut().expect("condensed");
         let r = self.mumps.solve(&mut all, 1, 1);
         self.all = all;
