@@ -65,7 +65,9 @@ fn main() {
     mumps
         .write_to_file(out.join("mumps_sys.rs"))
         .expect("cannot write bindings");
-    for lib in ["dmumps", "mumps_common", "pord"] {
+    // LAPACK and BLAS for the dense Schur complement (their sonames, as
+    // PETSc and MUMPS load them: Debian's alternatives pick the library).
+    for lib in ["dmumps", "mumps_common", "pord", "lapack", "blas"] {
         println!("cargo:rustc-link-lib=dylib={lib}");
     }
 }

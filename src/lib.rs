@@ -3,6 +3,7 @@
 
 pub mod app;
 pub mod contact;
+pub mod dense;
 pub mod error;
 pub mod fem;
 pub mod mesh;

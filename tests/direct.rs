@@ -144,7 +144,9 @@ fn condensed_iterates_equal_full_ones() {
                 g <= 1e-9,
                 "{name} -n {ranks}: condensed and full differ by {g:.2e}"
             );
-            // u_t comes from the whole displacement at the end.
+            // u_t comes from the whole displacement at the end (condensed
+            // on the normal components alone: the expansion of MUMPS' kept
+            // forward elimination from u_C, Direct::expand).
             for (x, y) in c.iter().zip(f) {
                 for k in 0..3 {
                     assert!(

@@ -191,20 +191,12 @@ impl Mumps {
         }
     }
 
-    /// The Schur complement (host), whole (mirrored from its lower
-    /// triangle), column-major.
-    pub fn schur(&self) -> Vec<f64> {
-        let m = self.id.size_schur as usize;
-        let mut s = vec![0.0; m * m];
-        for i in 0..m {
-            for j in 0..=i {
-                // by rows: entry (i, j), j <= i, at i * m + j
-                let v = self.schur[i * m + j];
-                s[j * m + i] = v;
-                s[i * m + j] = v;
-            }
-        }
-        s
+    /// The Schur complement (host), as MUMPS returns it: its lower triangle
+    /// by rows, that is its upper triangle column-major (what
+    /// [`crate::dense`] reads); the strict lower triangle (column-major) is
+    /// not set.
+    pub fn schur_upper(&self) -> &[f64] {
+        &self.schur
     }
 
     fn run(&mut self, job: i32, phase: &str) -> Result<(), Error> {

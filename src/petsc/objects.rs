@@ -755,67 +755,6 @@ impl SchurSolver {
     }
 }
 
-/// A dense symmetric positive definite matrix on this rank, factorized by
-/// LAPACK's Cholesky (PETSc's sequential dense matrix), and solves with it.
-pub struct DenseSpd {
-    raw: sys::Mat,
-    n: usize,
-    rhs: Vector,
-    sol: Vector,
-}
-
-impl Drop for DenseSpd {
-    fn drop(&mut self) {
-        unsafe {
-            sys::MatDestroy(&mut self.raw);
-        }
-    }
-}
-
-impl DenseSpd {
-    /// Factorizes the `n x n` matrix `a` (column-major, symmetric).
-    pub fn factor(n: usize, a: &[f64]) -> Result<DenseSpd, Error> {
-        assert_eq!(a.len(), n * n);
-        let mut raw: sys::Mat = std::ptr::null_mut();
-        unsafe {
-            check(sys::MatCreateSeqDense(
-                super::comm_self(),
-                n as sys::PetscInt,
-                n as sys::PetscInt,
-                std::ptr::null_mut(),
-                &mut raw,
-            ))?;
-        }
-        let m = DenseSpd {
-            raw,
-            n,
-            rhs: Vector::new_seq(n)?,
-            sol: Vector::new_seq(n)?,
-        };
-        unsafe {
-            let mut p: *mut f64 = std::ptr::null_mut();
-            check(sys::MatDenseGetArray(m.raw, &mut p))?;
-            std::slice::from_raw_parts_mut(p, n * n).copy_from_slice(a);
-            check(sys::MatDenseRestoreArray(m.raw, &mut p))?;
-            check(sys::MatAssemblyBegin(m.raw, sys::MAT_FINAL_ASSEMBLY))?;
-            check(sys::MatAssemblyEnd(m.raw, sys::MAT_FINAL_ASSEMBLY))?;
-            check(sys::MatSetOption(m.raw, sys::MAT_SPD, sys::PETSC_TRUE))?;
-            let mut info: sys::MatFactorInfo = Default::default();
-            check(sys::MatFactorInfoInitialize(&mut info))?;
-            check(sys::MatCholeskyFactor(m.raw, std::ptr::null_mut(), &info))?;
-        }
-        Ok(m)
-    }
-
-    /// `x = A^{-1} b`.
-    pub fn solve(&self, b: &[f64], x: &mut [f64]) -> Result<(), Error> {
-        assert_eq!(b.len(), self.n);
-        self.rhs.write(|v| v.copy_from_slice(b))?;
-        unsafe { check(sys::MatSolve(self.raw, self.rhs.raw, self.sol.raw))? };
-        self.sol.read(|v| x.copy_from_slice(v))
-    }
-}
-
 /// The data the SNES callbacks of a linear residual `F(x) = A x - b` need.
 struct LinearResidual {
     a: sys::Mat,

@@ -170,7 +170,7 @@ impl Deferred {
         let comps: Vec<usize> = lin
             .schur_comps()
             .map_or_else(|| (0..d).collect(), |c| c.to_vec());
-        let x = lin.displacements(surface, &cols)?;
+        let x = lin.displacements(surface, &cols, false)?;
         let mut found = None;
         let mut chosen = self.pending.len() - 1;
         let pending = &mut self.pending;

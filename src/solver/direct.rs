@@ -29,10 +29,11 @@
 
 use super::surface::Surface;
 use super::Layout;
+use crate::dense::{sym_upper_mv, SpdFactor};
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
 use crate::mumps::Mumps;
-use crate::petsc::{options, DenseSpd, LogEvent, Matrix};
+use crate::petsc::{options, LogEvent, Matrix};
 use mpi::traits::*;
 
 /// ICNTL entries this back-end sets itself.
@@ -42,11 +43,14 @@ const OWNED_ICNTL: [usize; 6] = [5, 18, 19, 20, 21, 26];
 struct SchurPart {
     m: usize,
     layout: Layout,
-    /// Host: S at the assembled r (unfactored, column-major) and factorized,
-    /// and S at the current r when it differs.
+    /// Host: S at the assembled r (unfactored; its upper triangle,
+    /// column-major, as MUMPS returns it) and factorized, and S at the
+    /// current r when it differs (`shifted_on`; its factor's array is kept
+    /// for the next change of r).
     s_raw: Vec<f64>,
-    s: Option<DenseSpd>,
-    shifted: Option<DenseSpd>,
+    s: Option<SpdFactor>,
+    shifted: Option<SpdFactor>,
+    shifted_on: bool,
     /// Host: the gathered right-hand side and the solution of a Schur
     /// solve (m each), kept between the iterations' solves.
     rhs: Vec<f64>,
@@ -74,6 +78,11 @@ pub struct Direct {
     /// Which of this rank's lower-triangle entries MUMPS has
     /// ([`lower_triplets`]).
     kept: Vec<bool>,
+    /// The number of columns of the last MUMPS solve when it was the
+    /// condensation of the base right-hand side ([`Direct::solve_contact_part`]),
+    /// whose forward elimination MUMPS keeps for an expansion
+    /// ([`Direct::expand`]); 0 after any other solve or a refactorization.
+    reduced: usize,
 }
 
 /// Rows, columns (1-based) and values of matrix entries.
@@ -357,8 +366,8 @@ impl Direct {
             let mut status = 0.0f64;
             let _e = LogEvent::register("SchurFactor")?.begin();
             if world.rank() == 0 {
-                s_raw = mumps.schur();
-                match DenseSpd::factor(m, &s_raw) {
+                s_raw = mumps.schur_upper().to_vec();
+                match SpdFactor::new(m, s_raw.clone()) {
                     Ok(f) => s = Some(f),
                     Err(_) => status = 1.0,
                 }
@@ -374,6 +383,7 @@ impl Direct {
                 s_raw,
                 s,
                 shifted: None,
+                shifted_on: false,
                 rhs: vec![0.0; if world.rank() == 0 { m } else { 0 }],
                 sol: vec![0.0; if world.rank() == 0 { m } else { 0 }],
             })
@@ -392,6 +402,7 @@ impl Direct {
             ordering,
             all: Vec::new(),
             kept,
+            reduced: 0,
         })
     }
 
@@ -439,6 +450,7 @@ impl Direct {
         let n = self.dofs.total();
         let host = world.rank() == 0;
         let mut all = self.gather_columns(world, cols, k);
+        self.reduced = 0;
         match &mut self.schur {
             None => self.mumps.solve(&mut all, k, 0)?,
             Some(sp) => {
@@ -479,20 +491,35 @@ impl Direct {
     /// condensation (forward elimination, ICNTL(26) = 1) and a dense solve
     /// with S at the assembled r, without the expansion (the backward pass
     /// over the factors, half a full solve's time) that only the other
-    /// unknowns need.
+    /// unknowns need. `b` is condensed as `keep` identical columns: MUMPS
+    /// keeps their forward elimination, and [`Direct::expand`] then gives the
+    /// whole solutions for any `keep` right-hand sides that differ from `b`
+    /// on the Schur unknowns alone, from their values there, with the
+    /// backward pass only.
     pub fn solve_contact_part<C: Communicator>(
         &mut self,
         world: &C,
         b: &[f64],
         x: &mut [f64],
+        keep: usize,
     ) -> Result<(), Error> {
         let _e = self.ev_solve.begin();
         let host = world.rank() == 0;
+        let keep = keep.max(1);
         let mut all = self.gather_columns(world, b, 1);
+        if host {
+            let n = all.len();
+            all.resize(n * keep, 0.0);
+            for j in 1..keep {
+                all.copy_within(..n, j * n);
+            }
+        }
+        self.reduced = 0;
         let sp = self.schur.as_mut().expect("condensed");
-        let r = self.mumps.solve(&mut all, 1, 1);
+        let r = self.mumps.solve(&mut all, keep, 1);
         self.all = all;
         r?;
+        self.reduced = keep;
         let failed = host && {
             let s = sp.s.as_ref().expect("the host has S");
             s.solve(&self.mumps.redrhs_mut()[..sp.m], &mut sp.sol)
@@ -501,6 +528,60 @@ impl Direct {
         host_verdict(world, failed, "the dense Schur solve failed")?;
         sp.layout.scatter(world, &sp.sol, x);
         Ok(())
+    }
+
+    /// The whole solutions of `K_r X = B` whose values on the Schur unknowns
+    /// are the `k` columns of `xs` (this rank's part of each, candidate by
+    /// candidate), where the columns of B equal the base right-hand side of
+    /// the last [`Direct::solve_contact_part`] off the Schur unknowns: the
+    /// expansion (ICNTL(26) = 2) from the forward elimination MUMPS kept.
+    /// Into `cols` (this rank's rows of each, column-major); `Ok(false)`,
+    /// nothing done, unless the last MUMPS solve was that condensation with
+    /// `k` columns (the expansion then uses it up).
+    pub fn expand<C: Communicator>(
+        &mut self,
+        world: &C,
+        xs: &[f64],
+        k: usize,
+        cols: &mut [f64],
+    ) -> Result<bool, Error> {
+        if k == 0 || self.reduced != k {
+            return Ok(false);
+        }
+        self.reduced = 0;
+        let _e = self.ev_solve.begin();
+        let host = world.rank() == 0;
+        let n = self.dofs.total();
+        let local = cols.len() / k;
+        let sp = self.schur.as_mut().expect("condensed");
+        let part = xs.len() / k;
+        let m = sp.m;
+        for j in 0..k {
+            sp.layout
+                .gather_into(world, &xs[j * part..(j + 1) * part], &mut sp.rhs);
+            if host {
+                self.mumps.redrhs_mut()[j * m..(j + 1) * m].copy_from_slice(&sp.rhs);
+            }
+        }
+        let mut all = std::mem::take(&mut self.all);
+        if host {
+            all.resize(n * k, 0.0);
+        }
+        if let Err(e) = self.mumps.solve(&mut all, k, 2) {
+            self.all = all;
+            return Err(e);
+        }
+        for j in 0..k {
+            let part = if host {
+                &all[j * n..(j + 1) * n]
+            } else {
+                &[][..]
+            };
+            self.dofs
+                .scatter(world, part, &mut cols[j * local..(j + 1) * local]);
+        }
+        self.all = all;
+        Ok(true)
     }
 
     /// `x = S_r^{-1} c` on the contact unknowns (this rank's part of each),
@@ -515,11 +596,12 @@ impl Direct {
         let sp = self.schur.as_mut().expect("condensed");
         sp.layout.gather_into(world, c, &mut sp.rhs);
         let failed = world.rank() == 0 && {
-            let s = sp
-                .shifted
-                .as_ref()
-                .or(sp.s.as_ref())
-                .expect("the host has S");
+            let s = if sp.shifted_on {
+                sp.shifted.as_ref()
+            } else {
+                sp.s.as_ref()
+            }
+            .expect("the host has S");
             s.solve(&sp.rhs, &mut sp.sol).is_err()
         };
         host_verdict(world, failed, "the dense Schur solve failed")?;
@@ -534,15 +616,8 @@ impl Direct {
         let all = sp.layout.gather(world, y);
         let mut prod = Vec::new();
         if world.rank() == 0 {
-            let m = sp.m;
-            prod = vec![0.0; m];
-            for (j, &yj) in all.iter().enumerate() {
-                if yj != 0.0 {
-                    for (p, s) in prod.iter_mut().zip(&sp.s_raw[j * m..(j + 1) * m]) {
-                        *p += s * yj;
-                    }
-                }
-            }
+            prod = vec![0.0; sp.m];
+            sym_upper_mv(sp.m, &sp.s_raw, &all, &mut prod);
         }
         sp.layout.scatter(world, &prod, out);
     }
@@ -563,18 +638,28 @@ impl Direct {
         let mut status = 0.0f64;
         if world.rank() == 0 {
             let m = sp.m;
-            let mut s = sp.s_raw.clone();
-            for (i, b) in all.chunks(d * d).enumerate() {
-                for a in 0..d {
-                    for c in 0..d {
-                        let (row, col) = (i * d + a, i * d + c);
-                        s[col * m + row] += delta * b[a * d + c];
+            // Into the array of the previous shifted factor, if any: a copy
+            // of S_a, the blocks added to its upper triangle, factorized.
+            let mut f = match sp.shifted.take() {
+                Some(f) => f,
+                None => SpdFactor::new(0, Vec::new()).expect("empty"),
+            };
+            let ok = f
+                .refactor_with(m, &sp.s_raw, |s| {
+                    for (i, b) in all.chunks(d * d).enumerate() {
+                        for a in 0..d {
+                            for c in a..d {
+                                let (row, col) = (i * d + a, i * d + c);
+                                s[col * m + row] += delta * b[a * d + c];
+                            }
+                        }
                     }
-                }
-            }
-            match DenseSpd::factor(m, &s) {
-                Ok(f) => sp.shifted = Some(f),
-                Err(_) => status = 1.0,
+                })
+                .is_ok();
+            sp.shifted = Some(f);
+            sp.shifted_on = ok;
+            if !ok {
+                status = 1.0;
             }
         }
         host_verdict(
@@ -611,6 +696,7 @@ impl Direct {
                 "an entry left out of MUMPS' input is no longer zero".into(),
             ));
         }
+        self.reduced = 0;
         {
             let _e = self.ev_factor.begin();
             self.mumps.factorize()?;
@@ -619,8 +705,9 @@ impl Direct {
         if let Some(sp) = self.schur.as_mut() {
             let mut status = 0.0f64;
             if world.rank() == 0 {
-                sp.s_raw = self.mumps.schur();
-                match DenseSpd::factor(sp.m, &sp.s_raw) {
+                sp.s_raw.clear();
+                sp.s_raw.extend_from_slice(self.mumps.schur_upper());
+                match SpdFactor::new(sp.m, sp.s_raw.clone()) {
                     Ok(f) => sp.s = Some(f),
                     Err(_) => status = 1.0,
                 }
@@ -630,7 +717,7 @@ impl Direct {
                 status != 0.0,
                 "the dense factorization of the Schur complement failed",
             )?;
-            sp.shifted = None;
+            sp.shifted_on = false;
         }
         Ok(())
     }

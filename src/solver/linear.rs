@@ -189,7 +189,9 @@ impl LinearSolver {
         let b = self.rhs0.read(|b| b.to_vec())?;
         let mut y0 = vec![0.0; surface.len() * comps.len()];
         if let Engine::Direct(d) = &mut self.engine {
-            d.solve_contact_part(&self.world, &b, &mut y0)?;
+            // Two columns kept for the two final displacements
+            // ([`LinearSolver::displacements`] with `expand`).
+            d.solve_contact_part(&self.world, &b, &mut y0, 2)?;
         }
         self.comps = comps.to_vec();
         self.y0 = Some((y0.clone(), y0));
@@ -335,15 +337,37 @@ impl LinearSolver {
 
     /// The whole displacements for several contact loads at once (one pass
     /// over the factors): column j of the result for `cols[j] = (c, uc)`.
+    /// `expand`, when condensed: from `uc` at the Schur components, by the
+    /// backward pass alone over the forward elimination of `rhs0` that
+    /// [`LinearSolver::condense`] left (the contact loads act on the Schur
+    /// unknowns alone), if no other sparse solve came between (else as
+    /// without). The columns then meet their equations at the Schur
+    /// unknowns only as well as `uc` does; without, `u_C` of the result is
+    /// the sparse solve's own (what the deferred test compares with `uc`).
     pub fn displacements(
         &mut self,
         surface: &Surface,
         cols: &[(&[f64], &[f64])],
+        expand: bool,
     ) -> Result<DenseColumns, Error> {
         let n = self.rhs0.local_size()?;
         let comm = crate::petsc::comm_world();
-        let b = DenseColumns::new(comm, n, cols.len())?;
         let x = DenseColumns::new(comm, n, cols.len())?;
+        if let (true, true, Engine::Direct(dd)) = (expand, self.y0.is_some(), &mut self.engine) {
+            let mut xs = Vec::new();
+            let mut picked = Vec::new();
+            for (_, uc) in cols {
+                pick_into(self.dim, &self.comps, uc, &mut picked);
+                xs.extend_from_slice(&picked);
+            }
+            let mut all = vec![0.0; n * cols.len()];
+            if dd.expand(&self.world, &xs, cols.len(), &mut all)? {
+                self.solves += cols.len();
+                x.write(|xx| xx.copy_from_slice(&all))?;
+                return Ok(x);
+            }
+        }
+        let b = DenseColumns::new(comm, n, cols.len())?;
         let loads: Vec<Vec<f64>> = cols
             .iter()
             .map(|(c, uc)| self.corrected(surface, c, uc))

@@ -725,7 +725,9 @@ pub fn ubr<C: Communicator>(
     if lin.is_condensed() && !paper {
         // The paper's change (4.16)/(5.6) is reported in every mode: u^{k-1}
         // and u^k from one solve with two right-hand sides.
-        let x = lin.displacements(&surface, &[(&c_prev, &uc_prev), (&c, &uc)])?;
+        // (From u_C alone: the equilibrium check of the answer then tests
+        // the Schur solves too.)
+        let x = lin.displacements(&surface, &[(&c_prev, &uc_prev), (&c, &uc)], true)?;
         let nloc = u_prev.len();
         let (du2, u2) = x.read(|xx| {
             state

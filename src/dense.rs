@@ -1,0 +1,206 @@
+//! Dense symmetric positive definite matrices on one rank, by LAPACK and
+//! BLAS themselves (the libraries PETSc and MUMPS load): the Schur
+//! complement of the direct back-end. They work on the upper triangle of a
+//! column-major array, which is how MUMPS returns a symmetric Schur
+//! complement (its lower triangle by rows, ICNTL(19) = 1): no copy to mirror
+//! it, no PETSc matrix around it.
+
+use std::os::raw::{c_char, c_int};
+
+extern "C" {
+    fn dpotrf_(
+        uplo: *const c_char,
+        n: *const c_int,
+        a: *mut f64,
+        lda: *const c_int,
+        info: *mut c_int,
+    );
+    fn dpotrs_(
+        uplo: *const c_char,
+        n: *const c_int,
+        nrhs: *const c_int,
+        a: *const f64,
+        lda: *const c_int,
+        b: *mut f64,
+        ldb: *const c_int,
+        info: *mut c_int,
+    );
+    fn dsymv_(
+        uplo: *const c_char,
+        n: *const c_int,
+        alpha: *const f64,
+        a: *const f64,
+        lda: *const c_int,
+        x: *const f64,
+        incx: *const c_int,
+        beta: *const f64,
+        y: *mut f64,
+        incy: *const c_int,
+    );
+}
+
+const UPPER: c_char = b'U' as c_char;
+
+/// The Cholesky factor `U^T U` of an `n x n` symmetric positive definite
+/// matrix given by its upper triangle (column-major).
+pub struct SpdFactor {
+    n: usize,
+    u: Vec<f64>,
+}
+
+impl SpdFactor {
+    /// Factorizes `a` in place (its upper triangle, column-major; the
+    /// strict lower triangle is neither read nor kept). `Err(k)`: the
+    /// leading minor of order k is not positive definite (LAPACK's INFO).
+    pub fn new(n: usize, mut a: Vec<f64>) -> Result<SpdFactor, i32> {
+        assert_eq!(a.len(), n * n);
+        if n > 0 {
+            let (nn, mut info) = (n as c_int, 0 as c_int);
+            unsafe { dpotrf_(&UPPER, &nn, a.as_mut_ptr(), &nn, &mut info) };
+            if info != 0 {
+                return Err(info);
+            }
+        }
+        Ok(SpdFactor { n, u: a })
+    }
+
+    /// Factorizes `modify` applied to a copy of `a` (`n x n`, upper
+    /// triangle) into this factor's array: no allocation when the order is
+    /// the same. On failure the factor is left empty.
+    pub fn refactor_with(
+        &mut self,
+        n: usize,
+        a: &[f64],
+        modify: impl FnOnce(&mut [f64]),
+    ) -> Result<(), i32> {
+        let mut u = std::mem::take(&mut self.u);
+        self.n = 0;
+        u.clear();
+        u.extend_from_slice(a);
+        modify(&mut u);
+        *self = SpdFactor::new(n, u)?;
+        Ok(())
+    }
+
+    /// `x = A^{-1} b`.
+    pub fn solve(&self, b: &[f64], x: &mut [f64]) -> Result<(), i32> {
+        assert!(b.len() == self.n && x.len() == self.n);
+        x.copy_from_slice(b);
+        if self.n == 0 {
+            return Ok(());
+        }
+        let (nn, one, mut info) = (self.n as c_int, 1 as c_int, 0 as c_int);
+        unsafe {
+            dpotrs_(
+                &UPPER,
+                &nn,
+                &one,
+                self.u.as_ptr(),
+                &nn,
+                x.as_mut_ptr(),
+                &nn,
+                &mut info,
+            );
+        }
+        if info != 0 {
+            return Err(info);
+        }
+        Ok(())
+    }
+}
+
+/// `y = A x`, A symmetric `n x n` given by its upper triangle (column-major).
+pub fn sym_upper_mv(n: usize, a: &[f64], x: &[f64], y: &mut [f64]) {
+    assert!(a.len() == n * n && x.len() == n && y.len() == n);
+    if n == 0 {
+        return;
+    }
+    let (nn, inc, one, zero) = (n as c_int, 1 as c_int, 1.0f64, 0.0f64);
+    unsafe {
+        dsymv_(
+            &UPPER,
+            &nn,
+            &one,
+            a.as_ptr(),
+            &nn,
+            x.as_ptr(),
+            &inc,
+            &zero,
+            y.as_mut_ptr(),
+            &inc,
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A = B^T B + n I for a fixed B; only its upper triangle is filled (the
+    /// lower one holds garbage that must not be read).
+    fn upper(n: usize) -> (Vec<f64>, Vec<f64>) {
+        let b: Vec<f64> = (0..n * n)
+            .map(|k| ((k * 7 + 3) % 11) as f64 - 5.0)
+            .collect();
+        let mut full = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                let mut s = if i == j { n as f64 } else { 0.0 };
+                for k in 0..n {
+                    s += b[k * n + i] * b[k * n + j];
+                }
+                full[j * n + i] = s;
+            }
+        }
+        let mut up = full.clone();
+        for j in 0..n {
+            for i in j + 1..n {
+                up[j * n + i] = f64::NAN;
+            }
+        }
+        (full, up)
+    }
+
+    #[test]
+    fn solves_from_the_upper_triangle() {
+        let n = 9;
+        let (full, up) = upper(n);
+        let x: Vec<f64> = (0..n).map(|i| 1.0 + i as f64).collect();
+        let mut b = vec![0.0; n];
+        for i in 0..n {
+            b[i] = (0..n).map(|j| full[j * n + i] * x[j]).sum();
+        }
+        let mut y = vec![0.0; n];
+        sym_upper_mv(n, &up, &x, &mut y);
+        for i in 0..n {
+            assert!((y[i] - b[i]).abs() < 1e-12 * b[i].abs().max(1.0));
+        }
+        let mut f = SpdFactor::new(n, up.clone()).unwrap();
+        let mut z = vec![0.0; n];
+        f.solve(&b, &mut z).unwrap();
+        for i in 0..n {
+            assert!((z[i] - x[i]).abs() < 1e-10, "{} against {}", z[i], x[i]);
+        }
+        // Refactorized after a diagonal shift: still solves its own system.
+        f.refactor_with(n, &up, |s| {
+            for i in 0..n {
+                s[i * n + i] += 3.0;
+            }
+        })
+        .unwrap();
+        f.solve(&b, &mut z).unwrap();
+        for i in 0..n {
+            let r: f64 = (0..n).map(|j| full[j * n + i] * z[j]).sum::<f64>() + 3.0 * z[i];
+            assert!((r - b[i]).abs() < 1e-9 * b[i].abs().max(1.0));
+        }
+    }
+
+    #[test]
+    fn an_indefinite_matrix_is_refused() {
+        // [[1, 2], [2, 1]] (upper triangle): eigenvalues 3 and -1.
+        assert_eq!(
+            SpdFactor::new(2, vec![1.0, f64::NAN, 2.0, 1.0]).err(),
+            Some(2)
+        );
+    }
+}
