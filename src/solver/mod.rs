@@ -547,14 +547,7 @@ pub(crate) fn without_zero_couplings(a: &Matrix, d: usize) -> Result<Matrix, Err
         }
         rowptr.push(cols.len() as sys::PetscInt);
     })?;
-    let m = Matrix::new_aij_csr(
-        petsc::comm_world(),
-        rowptr.len() - 1,
-        d,
-        &rowptr,
-        &cols,
-        &vals,
-    )?;
+    let m = Matrix::new_aij_csr(petsc::comm_world(), rowptr.len() - 1, d, rowptr, cols, vals)?;
     m.set_spd()?;
     Ok(m)
 }
