@@ -106,7 +106,7 @@ pub fn stiffness_3d(x: &[[f64; 3]; 4], d: &SMatrix<f64, 6, 6>) -> (SMatrix<f64, 
 /// (12x12, row-major, dofs node-major), returns its volume: block (a, b) is
 /// `vol (lambda g_a g_b^T + mu g_b g_a^T + mu (g_a . g_b) I)`, g the shape
 /// function gradients; what [`stiffness_3d`]'s `B^T D B` gives for Hooke's
-/// isotropic D, in a fifth of its time (block3d_17887: 35 -> 7 ms).
+/// isotropic D, without the 6x12 products (the general path of mixed meshes).
 pub fn stiffness_p1_3d_into(x: &[[f64; 3]; 4], (lambda, mu): (f64, f64), ke: &mut [f64]) -> f64 {
     let (g, vol) = grad_p1_3d(x);
     let (lv, mv) = (lambda * vol, mu * vol);
@@ -341,7 +341,7 @@ pub fn assemble_stiffness(
         // gives every neighbour's slot at once, and the cells around a add
         // their block row (a, .) in closed form (see stiffness_p1_3d_into)
         // to a's rows, which stay in cache: no search for a slot, no
-        // scattered writes (block3d_17887: 70 -> 40 ms).
+        // scattered writes (block3d_17887: assembly phase 0.100 -> 0.079 s).
         let (lambda, mu) = element::lame(settings.young, settings.nu, 3, false);
         let nlocal = mesh.node_global.len();
         let ncells = mesh.cells.len();
