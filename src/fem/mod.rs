@@ -293,7 +293,8 @@ pub fn assemble_stiffness(
 ) -> Result<Elasticity, Error> {
     let d = mesh.dim;
     let nown = mesh.owned_count;
-    let (nptr, nbr) = mesh.adjacency();
+    let adjacency = mesh.adjacency();
+    let (nptr, nbr) = (&adjacency.0, &adjacency.1);
     // Dof row (a, ca) starts at d * (d * nptr[a] + ca * len(a)); its
     // columns are (b, cb) for b in the neighbours of a, cb in 0..d.
     let row_start = |a: usize, ca: usize| d * (d * nptr[a] + ca * (nptr[a + 1] - nptr[a]));

@@ -12,6 +12,22 @@ use super::{Cells, Group, Mesh};
 use crate::error::Error;
 use mpi::traits::*;
 use std::collections::HashMap;
+use std::sync::Arc;
+
+/// Compressed rows of the owned nodes' neighbours (see
+/// [`crate::fem::node_adjacency`]).
+pub(crate) type Adjacency = (Vec<usize>, Vec<u32>);
+
+/// Where a [`LocalMesh`] keeps its adjacency between the assembly and the
+/// ordering (a clone starts empty).
+#[derive(Debug, Default)]
+pub struct AdjacencyCache(std::sync::Mutex<Option<Arc<Adjacency>>>);
+
+impl Clone for AdjacencyCache {
+    fn clone(&self) -> Self {
+        AdjacencyCache::default()
+    }
+}
 
 /// The part of the mesh a rank works on.
 #[derive(Clone, Debug)]
@@ -36,8 +52,8 @@ pub struct LocalMesh {
     /// elements that touch an owned node.
     pub groups: Vec<Group>,
     /// The owned nodes' neighbours, made once for the assembly and the
-    /// ordering ([`LocalMesh::adjacency`]).
-    pub(crate) adjacency: std::sync::OnceLock<(Vec<usize>, Vec<u32>)>,
+    /// ordering ([`LocalMesh::adjacency`]), released after them.
+    pub(crate) adjacency: AdjacencyCache,
 }
 
 impl LocalMesh {
@@ -51,10 +67,16 @@ impl LocalMesh {
         local < self.owned_count
     }
     /// The neighbours of each owned node, [`crate::fem::node_adjacency`],
-    /// made on first use.
-    pub(crate) fn adjacency(&self) -> &(Vec<usize>, Vec<u32>) {
-        self.adjacency
-            .get_or_init(|| crate::fem::node_adjacency(self))
+    /// made on first use and kept until [`LocalMesh::release_adjacency`].
+    pub(crate) fn adjacency(&self) -> Arc<Adjacency> {
+        let mut a = self.adjacency.0.lock().expect("not poisoned");
+        a.get_or_insert_with(|| Arc::new(crate::fem::node_adjacency(self)))
+            .clone()
+    }
+    /// Frees the adjacency kept by [`LocalMesh::adjacency`] (the
+    /// matrix's pattern holds it from then on).
+    pub(crate) fn release_adjacency(&self) {
+        *self.adjacency.0.lock().expect("not poisoned") = None;
     }
     pub fn group(&self, name: &str) -> Option<&Group> {
         self.groups.iter().find(|g| g.name == name)

@@ -122,7 +122,8 @@ fn metis_order<C: Communicator>(
 ) -> Result<Vec<i32>, Error> {
     let d = mesh.dim;
     // Each owned node's neighbours (global numbers), gathered on the host.
-    let (ptr, nbr) = mesh.adjacency();
+    let adjacency = mesh.adjacency();
+    let (ptr, nbr) = (&adjacency.0, &adjacency.1);
     let mut flat: Vec<f64> = Vec::with_capacity(nbr.len() + mesh.owned_count); // node, count, neighbours... (exact in f64)
     for a in 0..mesh.owned_count {
         let row = &nbr[ptr[a]..ptr[a + 1]];

@@ -466,6 +466,8 @@ impl Problem {
             }
             (Engine::Ksp(ksp), description, iterative)
         };
+        // The assembly and the ordering are done with the nodal adjacency.
+        mesh.release_adjacency();
         let adaptive_inner = iterative && !options::has_name("-ksp_rtol")?;
         let lin = LinearSolver::new(
             engine,
