@@ -438,6 +438,30 @@ impl Direct {
         all
     }
 
+    /// The inverse of [`Direct::gather_columns`]: the `k` host columns of
+    /// `all` scattered into `cols` (this rank's rows of each,
+    /// column-major); the buffer goes back to `self.all`.
+    fn scatter_columns<C: Communicator>(
+        &mut self,
+        world: &C,
+        all: Vec<f64>,
+        k: usize,
+        cols: &mut [f64],
+    ) {
+        let (local, n) = (cols.len() / k.max(1), self.dofs.total());
+        let host = world.rank() == 0;
+        for j in 0..k {
+            let part = if host {
+                &all[j * n..(j + 1) * n]
+            } else {
+                &[][..]
+            };
+            self.dofs
+                .scatter(world, part, &mut cols[j * local..(j + 1) * local]);
+        }
+        self.all = all;
+    }
+
     /// Solves `K_r X = B` for `k` right-hand sides: this rank's rows of each
     /// column, column-major (`local * k`), overwritten by the solutions.
     pub fn solve_full<C: Communicator>(
@@ -447,8 +471,6 @@ impl Direct {
         k: usize,
     ) -> Result<(), Error> {
         let _e = self.ev_solve.begin();
-        let local = cols.len() / k.max(1);
-        let n = self.dofs.total();
         let host = world.rank() == 0;
         let mut all = self.gather_columns(world, cols, k);
         self.reduced = 0;
@@ -474,16 +496,7 @@ impl Direct {
                 self.mumps.solve(&mut all, k, 2)?;
             }
         }
-        for j in 0..k {
-            let part = if host {
-                &all[j * n..(j + 1) * n]
-            } else {
-                &[][..]
-            };
-            self.dofs
-                .scatter(world, part, &mut cols[j * local..(j + 1) * local]);
-        }
-        self.all = all;
+        self.scatter_columns(world, all, k, cols);
         Ok(())
     }
 
@@ -553,7 +566,6 @@ impl Direct {
         let _e = self.ev_solve.begin();
         let host = world.rank() == 0;
         let n = self.dofs.total();
-        let local = cols.len() / k;
         let sp = self.schur.as_mut().expect("condensed");
         let part = xs.len() / k;
         let m = sp.m;
@@ -572,16 +584,7 @@ impl Direct {
             self.all = all;
             return Err(e);
         }
-        for j in 0..k {
-            let part = if host {
-                &all[j * n..(j + 1) * n]
-            } else {
-                &[][..]
-            };
-            self.dofs
-                .scatter(world, part, &mut cols[j * local..(j + 1) * local]);
-        }
-        self.all = all;
+        self.scatter_columns(world, all, k, cols);
         Ok(true)
     }
 
