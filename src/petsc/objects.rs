@@ -118,9 +118,14 @@ pub struct Matrix {
     pub(crate) raw: sys::Mat,
     /// The compressed rows a one-rank matrix lives in (PETSc does not own
     /// them; freed after the matrix, by `Drop`).
-    #[allow(clippy::type_complexity)]
-    _arrays: Option<Box<(Vec<sys::PetscInt>, Vec<sys::PetscInt>, Vec<f64>)>>,
+    _arrays: Option<Box<Csr>>,
+    /// The same for a matrix of several ranks: its diagonal and
+    /// off-diagonal parts.
+    _split: Option<Box<(Csr, Csr)>>,
 }
+
+/// Compressed rows: row pointers, column indices, values.
+type Csr = (Vec<sys::PetscInt>, Vec<sys::PetscInt>, Vec<f64>);
 
 impl Drop for Matrix {
     fn drop(&mut self) {
@@ -142,10 +147,11 @@ impl Matrix {
     /// An assembled AIJ matrix with `local` rows and columns on this rank and
     /// block size `bs`, from the compressed rows of this rank: row i has the
     /// global columns `cols[rowptr[i]..rowptr[i + 1]]` (increasing) and the
-    /// values at the same positions. One call hands the whole pattern and
-    /// values over (`Mat*AIJSetPreallocationCSR`, which also assembles). A
-    /// later entry outside the pattern is an error; no entry goes to another
-    /// rank.
+    /// values at the same positions. PETSc's matrix lives on these arrays
+    /// (one rank) or on their split into the owned and the other columns
+    /// (several), which the `Matrix` keeps until it is destroyed: no copy
+    /// entry by entry. A later entry outside the pattern is an error; no
+    /// entry goes to another rank.
     pub fn new_aij_csr(
         comm: sys::MPI_Comm,
         local: usize,
@@ -180,29 +186,76 @@ impl Matrix {
             let m = Matrix {
                 raw,
                 _arrays: Some(Box::new((rowptr, cols, vals))),
+                _split: None,
             };
             unsafe { check(sys::MatSetBlockSize(m.raw, bs as sys::PetscInt))? };
             m.set_flag(sys::MAT_NEW_NONZERO_ALLOCATION_ERR)?;
             m.set_flag(sys::MAT_NO_OFF_PROC_ENTRIES)?;
             return Ok(m);
         }
-        let m = Matrix::empty(comm, local, sys::MATAIJ, Some(bs))?;
+        // Several ranks: the rows split into their "diagonal" part (the
+        // columns this rank owns, numbered from its first) and the others
+        // (global numbers), PETSc's matrix on these arrays themselves
+        // (MatCreateMPIAIJWithSplitArrays; the preallocation route copies
+        // entry by entry).
+        let (mut first, mut end) = (0u64, 0u64);
+        let count = local as u64;
         unsafe {
-            // Each is a no-op for the other type (one rank: seqaij, whose
-            // column indices are then the global ones).
-            check(sys::MatSeqAIJSetPreallocationCSR(
-                m.raw,
-                rowptr.as_ptr(),
-                cols.as_ptr(),
-                vals.as_ptr(),
-            ))?;
-            check(sys::MatMPIAIJSetPreallocationCSR(
-                m.raw,
-                rowptr.as_ptr(),
-                cols.as_ptr(),
-                vals.as_ptr(),
+            mpi::ffi::MPI_Scan(
+                &count as *const u64 as *const std::ffi::c_void,
+                &mut end as *mut u64 as *mut std::ffi::c_void,
+                1,
+                mpi::ffi::RSMPI_UINT64_T,
+                mpi::ffi::RSMPI_SUM,
+                comm,
+            );
+        }
+        first += end - count;
+        let (lo, hi) = (first as sys::PetscInt, end as sys::PetscInt);
+        let mut di: Vec<sys::PetscInt> = Vec::with_capacity(local + 1);
+        let mut oi: Vec<sys::PetscInt> = Vec::with_capacity(local + 1);
+        let (mut dj, mut da, mut oj, mut oa) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        di.push(0);
+        oi.push(0);
+        for r in 0..local {
+            for k in rowptr[r] as usize..rowptr[r + 1] as usize {
+                let c = cols[k];
+                if (lo..hi).contains(&c) {
+                    dj.push(c - lo);
+                    da.push(vals[k]);
+                } else {
+                    oj.push(c);
+                    oa.push(vals[k]);
+                }
+            }
+            di.push(dj.len() as sys::PetscInt);
+            oi.push(oj.len() as sys::PetscInt);
+        }
+        drop((rowptr, cols, vals));
+        let n = local as sys::PetscInt;
+        let mut raw: sys::Mat = std::ptr::null_mut();
+        unsafe {
+            check(sys::MatCreateMPIAIJWithSplitArrays(
+                comm,
+                n,
+                n,
+                sys::PETSC_DETERMINE,
+                sys::PETSC_DETERMINE,
+                di.as_mut_ptr(),
+                dj.as_mut_ptr(),
+                da.as_mut_ptr(),
+                oi.as_mut_ptr(),
+                oj.as_mut_ptr(),
+                oa.as_mut_ptr(),
+                &mut raw,
             ))?;
         }
+        let m = Matrix {
+            raw,
+            _arrays: None,
+            _split: Some(Box::new(((di, dj, da), (oi, oj, oa)))),
+        };
+        unsafe { check(sys::MatSetBlockSize(m.raw, bs as sys::PetscInt))? };
         m.set_flag(sys::MAT_NEW_NONZERO_ALLOCATION_ERR)?;
         m.set_flag(sys::MAT_NO_OFF_PROC_ENTRIES)?;
         Ok(m)
@@ -219,7 +272,11 @@ impl Matrix {
         let mut raw: sys::Mat = std::ptr::null_mut();
         unsafe {
             check(sys::MatCreate(comm, &mut raw))?;
-            let m = Matrix { raw, _arrays: None };
+            let m = Matrix {
+                raw,
+                _arrays: None,
+                _split: None,
+            };
             let n = local as sys::PetscInt;
             check(sys::MatSetSizes(
                 m.raw,
@@ -442,7 +499,11 @@ impl Matrix {
     pub fn duplicate(&self) -> Result<Matrix, Error> {
         let mut raw: sys::Mat = std::ptr::null_mut();
         unsafe { check(sys::MatDuplicate(self.raw, sys::MAT_COPY_VALUES, &mut raw))? };
-        Ok(Matrix { raw, _arrays: None })
+        Ok(Matrix {
+            raw,
+            _arrays: None,
+            _split: None,
+        })
     }
 
     /// Copies the values of `other` (same nonzero pattern) into this matrix.
@@ -620,6 +681,7 @@ impl Ksp {
             let copy = Matrix {
                 raw: s,
                 _arrays: None,
+                _split: None,
             };
             let mut a: *const f64 = std::ptr::null();
             let mut lda: sys::PetscInt = 0;
