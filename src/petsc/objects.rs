@@ -212,15 +212,19 @@ impl Matrix {
         }
         first += end - count;
         let (lo, hi) = (first as sys::PetscInt, end as sys::PetscInt);
+        let owned = |c: &sys::PetscInt| (lo..hi).contains(c);
+        let nd = cols.iter().filter(|c| owned(c)).count();
+        let no = cols.len() - nd;
         let mut di: Vec<sys::PetscInt> = Vec::with_capacity(local + 1);
         let mut oi: Vec<sys::PetscInt> = Vec::with_capacity(local + 1);
-        let (mut dj, mut da, mut oj, mut oa) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut dj, mut da) = (Vec::with_capacity(nd), Vec::with_capacity(nd));
+        let (mut oj, mut oa) = (Vec::with_capacity(no), Vec::with_capacity(no));
         di.push(0);
         oi.push(0);
         for r in 0..local {
             for k in rowptr[r] as usize..rowptr[r + 1] as usize {
                 let c = cols[k];
-                if (lo..hi).contains(&c) {
+                if owned(&c) {
                     dj.push(c - lo);
                     da.push(vals[k]);
                 } else {
