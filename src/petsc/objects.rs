@@ -116,16 +116,42 @@ impl Vector {
 /// A distributed sparse matrix (`MATAIJ`).
 pub struct Matrix {
     pub(crate) raw: sys::Mat,
-    /// The compressed rows a one-rank matrix lives in (PETSc does not own
-    /// them; freed after the matrix, by `Drop`).
-    _arrays: Option<Box<Csr>>,
-    /// The same for a matrix of several ranks: its diagonal and
-    /// off-diagonal parts.
-    _split: Option<Box<(Csr, Csr)>>,
 }
 
 /// Compressed rows: row pointers, column indices, values.
 type Csr = (Vec<sys::PetscInt>, Vec<sys::PetscInt>, Vec<f64>);
+
+/// The arrays a matrix made on them lives in, freed by PETSc's container
+/// when the matrix itself is destroyed (its last reference, a KSP's or a
+/// SNES's included), not when our wrapper is.
+unsafe extern "C" fn free_csr_arrays(p: *mut std::ffi::c_void) -> sys::PetscErrorCode {
+    drop(Box::from_raw(p as *mut Vec<Csr>));
+    0
+}
+
+/// Hands `arrays` to `mat`: composed with it in a container whose destroy
+/// frees them.
+fn attach_arrays(mat: sys::Mat, arrays: Vec<Csr>) -> Result<(), Error> {
+    let p = Box::into_raw(Box::new(arrays)) as *mut std::ffi::c_void;
+    let mut c: sys::PetscContainer = std::ptr::null_mut();
+    unsafe {
+        let r = sys::PetscContainerCreate(super::comm_self(), &mut c);
+        if r != 0 {
+            drop(Box::from_raw(p as *mut Vec<Csr>));
+            return check(r);
+        }
+        check(sys::PetscContainerSetPointer(c, p))?;
+        check(sys::PetscContainerSetUserDestroy(c, Some(free_csr_arrays)))?;
+        let name = std::ffi::CString::new("ubr_csr_arrays").expect("no NUL");
+        let r = sys::PetscObjectCompose(
+            mat as sys::PetscObject,
+            name.as_ptr(),
+            c as sys::PetscObject,
+        );
+        sys::PetscContainerDestroy(&mut c); // the matrix holds it now
+        check(r)
+    }
+}
 
 impl Drop for Matrix {
     fn drop(&mut self) {
@@ -149,8 +175,8 @@ impl Matrix {
     /// global columns `cols[rowptr[i]..rowptr[i + 1]]` (increasing) and the
     /// values at the same positions. PETSc's matrix lives on these arrays
     /// (one rank) or on their split into the owned and the other columns
-    /// (several), which the `Matrix` keeps until it is destroyed: no copy
-    /// entry by entry. A later entry outside the pattern is an error; no
+    /// (several), which PETSc's matrix keeps (in a composed container)
+    /// until it is destroyed: no copy entry by entry. A later entry outside the pattern is an error; no
     /// entry goes to another rank.
     pub fn new_aij_csr(
         comm: sys::MPI_Comm,
@@ -165,9 +191,9 @@ impl Matrix {
         let mut size = 0;
         unsafe { mpi::ffi::MPI_Comm_size(comm, &mut size) };
         if size == 1 {
-            // One rank: PETSc's matrix on the arrays themselves, which the
-            // matrix keeps (the preallocation route below copies them entry
-            // by entry: block3d_17887 28 ms).
+            // One rank: PETSc's matrix on the arrays themselves, which it
+            // keeps (the preallocation route copies them entry by entry:
+            // block3d_17887 28 ms).
             let (mut rowptr, mut cols, mut vals) = (rowptr, cols, vals);
             let n = local as sys::PetscInt;
             let mut raw: sys::Mat = std::ptr::null_mut();
@@ -183,11 +209,8 @@ impl Matrix {
                 ))?;
             }
             // (Moving the vectors moves no element: the pointers stay valid.)
-            let m = Matrix {
-                raw,
-                _arrays: Some(Box::new((rowptr, cols, vals))),
-                _split: None,
-            };
+            let m = Matrix { raw };
+            attach_arrays(m.raw, vec![(rowptr, cols, vals)])?;
             unsafe { check(sys::MatSetBlockSize(m.raw, bs as sys::PetscInt))? };
             m.set_flag(sys::MAT_NEW_NONZERO_ALLOCATION_ERR)?;
             m.set_flag(sys::MAT_NO_OFF_PROC_ENTRIES)?;
@@ -254,11 +277,8 @@ impl Matrix {
                 &mut raw,
             ))?;
         }
-        let m = Matrix {
-            raw,
-            _arrays: None,
-            _split: Some(Box::new(((di, dj, da), (oi, oj, oa)))),
-        };
+        let m = Matrix { raw };
+        attach_arrays(m.raw, vec![(di, dj, da), (oi, oj, oa)])?;
         unsafe { check(sys::MatSetBlockSize(m.raw, bs as sys::PetscInt))? };
         m.set_flag(sys::MAT_NEW_NONZERO_ALLOCATION_ERR)?;
         m.set_flag(sys::MAT_NO_OFF_PROC_ENTRIES)?;
@@ -276,11 +296,7 @@ impl Matrix {
         let mut raw: sys::Mat = std::ptr::null_mut();
         unsafe {
             check(sys::MatCreate(comm, &mut raw))?;
-            let m = Matrix {
-                raw,
-                _arrays: None,
-                _split: None,
-            };
+            let m = Matrix { raw };
             let n = local as sys::PetscInt;
             check(sys::MatSetSizes(
                 m.raw,
@@ -503,11 +519,7 @@ impl Matrix {
     pub fn duplicate(&self) -> Result<Matrix, Error> {
         let mut raw: sys::Mat = std::ptr::null_mut();
         unsafe { check(sys::MatDuplicate(self.raw, sys::MAT_COPY_VALUES, &mut raw))? };
-        Ok(Matrix {
-            raw,
-            _arrays: None,
-            _split: None,
-        })
+        Ok(Matrix { raw })
     }
 
     /// Copies the values of `other` (same nonzero pattern) into this matrix.
@@ -682,11 +694,7 @@ impl Ksp {
                 &mut s,
                 &mut status,
             ))?;
-            let copy = Matrix {
-                raw: s,
-                _arrays: None,
-                _split: None,
-            };
+            let copy = Matrix { raw: s };
             let mut a: *const f64 = std::ptr::null();
             let mut lda: sys::PetscInt = 0;
             check(sys::MatDenseGetLDA(copy.raw, &mut lda))?;
