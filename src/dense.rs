@@ -42,7 +42,9 @@ extern "C" {
 const UPPER: c_char = b'U' as c_char;
 
 /// The Cholesky factor `U^T U` of an `n x n` symmetric positive definite
-/// matrix given by its upper triangle (column-major).
+/// matrix given by its upper triangle (column-major); the default is the
+/// empty one (order 0).
+#[derive(Default)]
 pub struct SpdFactor {
     n: usize,
     u: Vec<f64>,

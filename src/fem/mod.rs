@@ -112,18 +112,30 @@ pub fn stiffness_p1_3d_into(x: &[[f64; 3]; 4], (lambda, mu): (f64, f64), ke: &mu
     let (lv, mv) = (lambda * vol, mu * vol);
     for a in 0..4 {
         for b in 0..4 {
-            let (ga, gb) = (&g[a], &g[b]);
-            let dot = mv * (ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2]);
-            for i in 0..3 {
-                let row = &mut ke[(3 * a + i) * 12 + 3 * b..(3 * a + i) * 12 + 3 * b + 3];
-                for j in 0..3 {
-                    row[j] = lv * ga[i] * gb[j] + mv * ga[j] * gb[i];
-                }
-                row[i] += dot;
+            let k = p1_block(&g[a], &g[b], lv, mv);
+            for (i, ki) in k.iter().enumerate() {
+                let at = (3 * a + i) * 12 + 3 * b;
+                ke[at..at + 3].copy_from_slice(ki);
             }
         }
     }
     vol
+}
+
+/// Block (a, b) of an isotropic P1 tetrahedron's stiffness from the shape
+/// function gradients `ga`, `gb` and `lv = lambda vol`, `mv = mu vol`:
+/// `lv ga gb^T + mv gb ga^T + mv (ga . gb) I` (row i, column j).
+#[inline]
+fn p1_block(ga: &[f64; 3], gb: &[f64; 3], lv: f64, mv: f64) -> [[f64; 3]; 3] {
+    let dot = mv * (ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2]);
+    let mut k = [[0.0; 3]; 3];
+    for (i, ki) in k.iter_mut().enumerate() {
+        for (j, kij) in ki.iter_mut().enumerate() {
+            *kij = lv * ga[i] * gb[j] + mv * ga[j] * gb[i];
+        }
+        ki[i] += dot;
+    }
+    k
 }
 
 /// Measure of a facet given its vertex coordinates (point: 1, segment:
@@ -135,10 +147,14 @@ pub fn facet_measure(pts: &[&[f64]]) -> f64 {
     w.iter().sum()
 }
 
+/// Compressed rows of the owned nodes' neighbours ([`node_adjacency`]):
+/// made once, for the assembly and for METIS' graph.
+pub(crate) type Adjacency = (Vec<usize>, Vec<u32>);
+
 /// The neighbours of each owned node (the nodes it shares a cell with,
 /// itself included), in compressed rows sorted by global number: the
 /// neighbours of owned node a are `nbr[ptr[a]..ptr[a + 1]]` (local numbers).
-pub(crate) fn node_adjacency(mesh: &LocalMesh) -> (Vec<usize>, Vec<u32>) {
+pub(crate) fn node_adjacency(mesh: &LocalMesh) -> Adjacency {
     let nown = mesh.owned_count;
     let mut count = vec![1usize; nown]; // itself
     for cell in &mesh.cells {
@@ -288,13 +304,12 @@ pub fn cell_stiffness(
 pub fn assemble_stiffness(
     comm: sys::MPI_Comm,
     mesh: &LocalMesh,
+    (nptr, nbr): &Adjacency,
     settings: &Settings,
     extra: &[(usize, Vec<f64>)],
 ) -> Result<Elasticity, Error> {
     let d = mesh.dim;
     let nown = mesh.owned_count;
-    let adjacency = mesh.adjacency();
-    let (nptr, nbr) = (&adjacency.0, &adjacency.1);
     // Dof row (a, ca) starts at d * (d * nptr[a] + ca * len(a)); its
     // columns are (b, cb) for b in the neighbours of a, cb in 0..d.
     let row_start = |a: usize, ca: usize| d * (d * nptr[a] + ca * (nptr[a + 1] - nptr[a]));
@@ -393,15 +408,13 @@ pub fn assemble_stiffness(
                 let ga = g[ia];
                 let (lv, mv) = (lambda * vol, mu * vol);
                 for (ib, &b) in cell.iter().enumerate() {
-                    let gb = g[ib];
+                    let k = p1_block(&ga, &g[ib], lv, mv);
                     let p = marker[b] as usize;
-                    let dot = mv * (ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2]);
-                    for i in 0..3 {
+                    for (i, ki) in k.iter().enumerate() {
                         let row = &mut rows[i * 3 * len + 3 * p..i * 3 * len + 3 * p + 3];
-                        for j in 0..3 {
-                            row[j] += lv * ga[i] * gb[j] + mv * ga[j] * gb[i];
+                        for (r, kij) in row.iter_mut().zip(ki) {
+                            *r += kij;
                         }
-                        row[i] += dot;
                     }
                 }
             }

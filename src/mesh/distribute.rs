@@ -12,22 +12,6 @@ use super::{Cells, Group, Mesh};
 use crate::error::Error;
 use mpi::traits::*;
 use std::collections::HashMap;
-use std::sync::Arc;
-
-/// Compressed rows of the owned nodes' neighbours (see
-/// [`crate::fem::node_adjacency`]).
-pub(crate) type Adjacency = (Vec<usize>, Vec<u32>);
-
-/// Where a [`LocalMesh`] keeps its adjacency between the assembly and the
-/// ordering (a clone starts empty).
-#[derive(Debug, Default)]
-pub struct AdjacencyCache(std::sync::Mutex<Option<Arc<Adjacency>>>);
-
-impl Clone for AdjacencyCache {
-    fn clone(&self) -> Self {
-        AdjacencyCache::default()
-    }
-}
 
 /// The part of the mesh a rank works on.
 #[derive(Clone, Debug)]
@@ -51,9 +35,6 @@ pub struct LocalMesh {
     /// Every group of the mesh, in the same order on every rank; each with the
     /// elements that touch an owned node.
     pub groups: Vec<Group>,
-    /// The owned nodes' neighbours, made once for the assembly and the
-    /// ordering ([`LocalMesh::adjacency`]), released after them.
-    pub(crate) adjacency: AdjacencyCache,
 }
 
 impl LocalMesh {
@@ -65,18 +46,6 @@ impl LocalMesh {
     }
     pub fn is_owned(&self, local: usize) -> bool {
         local < self.owned_count
-    }
-    /// The neighbours of each owned node, [`crate::fem::node_adjacency`],
-    /// made on first use and kept until [`LocalMesh::release_adjacency`].
-    pub(crate) fn adjacency(&self) -> Arc<Adjacency> {
-        let mut a = self.adjacency.0.lock().expect("not poisoned");
-        a.get_or_insert_with(|| Arc::new(crate::fem::node_adjacency(self)))
-            .clone()
-    }
-    /// Frees the adjacency kept by [`LocalMesh::adjacency`] (the
-    /// matrix's pattern holds it from then on).
-    pub(crate) fn release_adjacency(&self) {
-        *self.adjacency.0.lock().expect("not poisoned") = None;
     }
     pub fn group(&self, name: &str) -> Option<&Group> {
         self.groups.iter().find(|g| g.name == name)
@@ -374,7 +343,6 @@ pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec
             coords,
             cells,
             groups,
-            adjacency: Default::default(),
         });
     }
     locals
@@ -493,7 +461,6 @@ fn decode(buf: &[u8]) -> LocalMesh {
         coords,
         cells,
         groups,
-        adjacency: Default::default(),
     }
 }
 

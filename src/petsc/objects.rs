@@ -176,8 +176,8 @@ impl Matrix {
     /// values at the same positions. PETSc's matrix lives on these arrays
     /// (one rank) or on their split into the owned and the other columns
     /// (several), which PETSc's matrix keeps (in a composed container)
-    /// until it is destroyed: no copy entry by entry. A later entry outside the pattern is an error; no
-    /// entry goes to another rank.
+    /// until it is destroyed: no copy entry by entry. A later entry outside
+    /// the pattern is an error; no entry goes to another rank.
     pub fn new_aij_csr(
         comm: sys::MPI_Comm,
         local: usize,
@@ -221,7 +221,7 @@ impl Matrix {
         // (global numbers), PETSc's matrix on these arrays themselves
         // (MatCreateMPIAIJWithSplitArrays; the preallocation route copies
         // entry by entry).
-        let (mut first, mut end) = (0u64, 0u64);
+        let mut end = 0u64;
         let count = local as u64;
         unsafe {
             mpi::ffi::MPI_Scan(
@@ -233,8 +233,7 @@ impl Matrix {
                 comm,
             );
         }
-        first += end - count;
-        let (lo, hi) = (first as sys::PetscInt, end as sys::PetscInt);
+        let (lo, hi) = ((end - count) as sys::PetscInt, end as sys::PetscInt);
         let owned = |c: &sys::PetscInt| (lo..hi).contains(c);
         let nd = cols.iter().filter(|c| owned(c)).count();
         let no = cols.len() - nd;

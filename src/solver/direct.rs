@@ -31,6 +31,7 @@ use super::surface::Surface;
 use super::Layout;
 use crate::dense::{sym_upper_mv, SpdFactor};
 use crate::error::Error;
+use crate::fem::Adjacency;
 use crate::mesh::distribute::LocalMesh;
 use crate::mumps::Mumps;
 use crate::petsc::{options, LogEvent, Matrix};
@@ -117,13 +118,12 @@ fn lower_triplets(a: &Matrix, d: usize) -> Result<(Triplets, Vec<bool>), Error> 
 fn metis_order<C: Communicator>(
     world: &C,
     mesh: &LocalMesh,
+    (ptr, nbr): &Adjacency,
     schur_nodes: &[usize],
     comps: &[usize],
 ) -> Result<Vec<i32>, Error> {
     let d = mesh.dim;
     // Each owned node's neighbours (global numbers), gathered on the host.
-    let adjacency = mesh.adjacency();
-    let (ptr, nbr) = (&adjacency.0, &adjacency.1);
     let mut flat: Vec<f64> = Vec::with_capacity(nbr.len() + mesh.owned_count); // node, count, neighbours... (exact in f64)
     for a in 0..mesh.owned_count {
         let row = &nbr[ptr[a]..ptr[a + 1]];
@@ -222,6 +222,7 @@ fn choose_ordering<C: Communicator>(
     world: &C,
     mumps: &mut Mumps,
     mesh: &LocalMesh,
+    adjacency: &Adjacency,
     schur_nodes: &[usize],
     comps: &[usize],
 ) -> Result<String, Error> {
@@ -229,7 +230,7 @@ fn choose_ordering<C: Communicator>(
     let metis = |mumps: &mut Mumps| -> Result<(), Error> {
         let perm_in = {
             let _e = LogEvent::register("METISOrdering")?.begin();
-            metis_order(world, mesh, schur_nodes, comps)?
+            metis_order(world, mesh, adjacency, schur_nodes, comps)?
         };
         mumps.set_ordering(perm_in);
         let _e = ev_analysis.begin();
@@ -291,11 +292,13 @@ impl Direct {
     /// Analyses and factorizes `a` (the assembled `K_r`), with the Schur
     /// complement on the contact unknowns when `condense`.
     /// `comps`: the components of each candidate in the Schur complement
-    /// (the normal axis alone when frictionless along an axis).
+    /// (the normal axis alone when frictionless along an axis); `adjacency`:
+    /// the nodal graph METIS orders.
     pub fn new<C: Communicator>(
         world: &C,
         a: &Matrix,
         mesh: &LocalMesh,
+        adjacency: &Adjacency,
         surface: &Surface,
         condense: bool,
         comps: &[usize],
@@ -353,7 +356,7 @@ impl Direct {
             mumps.set_schur(m, listvar);
         }
         let schur_nodes: &[usize] = if condense { &contact_global } else { &[] };
-        let ordering = choose_ordering(world, &mut mumps, mesh, schur_nodes, comps)?;
+        let ordering = choose_ordering(world, &mut mumps, mesh, adjacency, schur_nodes, comps)?;
         let ev_factor = LogEvent::register("MUMPSFactorNum")?;
         let ev_solve = LogEvent::register("MUMPSSolve")?;
         let ev_schur = LogEvent::register("SchurSolve")?;
@@ -644,10 +647,7 @@ impl Direct {
             let m = sp.m;
             // Into the array of the previous shifted factor, if any: a copy
             // of S_a, the blocks added to its upper triangle, factorized.
-            let mut f = match sp.shifted.take() {
-                Some(f) => f,
-                None => SpdFactor::new(0, Vec::new()).expect("empty"),
-            };
+            let mut f = sp.shifted.take().unwrap_or_default();
             let ok = f
                 .refactor_with(m, &sp.s_raw, |s| {
                     for (i, b) in all.chunks(d * d).enumerate() {

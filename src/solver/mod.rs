@@ -341,7 +341,9 @@ impl Problem {
                 .collect(),
             ContactTerms::None => Vec::new(),
         };
-        let el = fem::assemble_stiffness(comm, mesh, settings, &extra)?;
+        // The nodal graph, once for the assembly and METIS' ordering.
+        let adjacency = fem::node_adjacency(mesh);
+        let el = fem::assemble_stiffness(comm, mesh, &adjacency, settings, &extra)?;
         let a = el.stiffness;
         let load_local = fem::loads::external_load(mesh, settings, &el.lumped_mass)?;
         let dir = fem::dirichlet_dofs(mesh, &settings.dirichlet)?;
@@ -445,7 +447,7 @@ impl Problem {
                 tangential,
                 dirichlet: &contact_dirichlet,
             };
-            let dm = direct::Direct::new(world, &a, mesh, &surface, condense, &comps)?;
+            let dm = direct::Direct::new(world, &a, mesh, &adjacency, &surface, condense, &comps)?;
             let description = format!(
                 "MUMPS Cholesky, called directly ({}; {:.3e} flops)",
                 dm.ordering, dm.flops
@@ -466,8 +468,7 @@ impl Problem {
             }
             (Engine::Ksp(ksp), description, iterative)
         };
-        // The assembly and the ordering are done with the nodal adjacency.
-        mesh.release_adjacency();
+        drop(adjacency);
         let adaptive_inner = iterative && !options::has_name("-ksp_rtol")?;
         let lin = LinearSolver::new(
             engine,
