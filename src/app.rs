@@ -15,6 +15,7 @@ use crate::report::{self, files, ContactRow, Results, Times, Totals};
 use crate::solver::checks::{self, Deformation, Diagnostics, Forces};
 use crate::solver::outcome::{self, Solved};
 use crate::solver::surface::UbrState;
+use crate::solver::touching;
 use crate::solver::wellposed::{self, Restraint};
 use crate::solver::{
     allreduce_count, allreduce_max, allreduce_sum, penalty, ContactTerms, Problem,
@@ -63,6 +64,8 @@ struct ContactProblem<'w, C: Communicator> {
     times: Times,
     /// The warnings of the run, each printed once on stderr (rank 0).
     warnings: Vec<String>,
+    /// Whether parts of the mesh were found touching before the solve.
+    touched: bool,
 }
 
 /// What the solve step returns.
@@ -103,6 +106,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             start,
             times: Times::default(),
             warnings: Vec::new(),
+            touched: false,
         })
     }
 
@@ -114,13 +118,15 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let choice = self.choose_r(&local, &mut problem, &restraint)?;
         unused.early(self.root)?;
         let solution = self.solve(&local, &mut problem, &restraint)?;
-        let checked = self.check(&local, &problem, &solution)?;
+        let checked = self.check(&local, &problem, &restraint, &solution)?;
         self.output(&local, &problem, choice.as_ref(), &solution, &checked)?;
-        if let Some(msg) = checked.singular {
-            return Err(Error::NotConverged(msg));
-        }
+        // A run that did not converge says why; an answer that violates
+        // equilibrium after a converged run means a singular matrix.
         if !solution.solved.converged {
             return Err(Error::NotConverged(solution.solved.failure()));
+        }
+        if let Some(msg) = checked.singular {
+            return Err(Error::NotConverged(msg));
         }
         Ok(())
     }
@@ -188,6 +194,11 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         for w in checks::setup_warnings(self.world, local, s, &dirichlet, &cs)? {
             self.warn(w);
         }
+        let touches = touching::touching(self.world, local, &restraint.bodies, None);
+        if let Some(w) = touching::warning(&restraint.bodies, &touches, false) {
+            self.touched = true;
+            self.warn(w);
+        }
         Ok((cs, restraint))
     }
 
@@ -229,9 +240,16 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             )
         });
         let problem = Problem::setup(world, local, s, cs, terms, r0, &self.stages)?;
-        if !friction {
+        // Can the contact (frictionless, or within Coulomb's cone) balance
+        // the loads on the motions no Dirichlet condition holds?
+        let coulomb = match s.friction {
+            Friction::None => Some(None),
+            Friction::Coulomb => Some(Some(s.friction_coefficient)),
+            Friction::Tresca => None,
+        };
+        if let Some(coulomb) = coulomb {
             let load = problem.load.read(|f| f.to_vec())?;
-            wellposed::check_loads(world, local, restraint, &problem.contact, &load)?;
+            wellposed::check_loads(world, local, restraint, &problem.contact, &load, coulomb)?;
         }
         if problem.matrix_mallocs != 0.0 {
             return Err(Error::Internal(format!(
@@ -261,6 +279,13 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         progress::phase(false, || "choosing r".into());
         let monitor = self.settings.ubr.monitor;
         let choice = penalty::choose(self.world, problem, restraint, local, auto, monitor)?;
+        if let Some(r0) = outcome::r_far(self.world, local, &self.settings, problem) {
+            self.warn(format!(
+                "-ubr_r {:.3e} is {:.1e} times the trial r0 = {r0:.3e} from which -ubr_r auto chooses (within a factor of about 30 of it): UBR converges slowly or not at all that far from it",
+                choice.r,
+                choice.r / r0
+            ));
+        }
         self.times.r_choice = t.elapsed().as_secs_f64();
         Ok(Some(choice))
     }
@@ -280,7 +305,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             local,
             &self.settings,
             problem,
-            restraint.friction_held,
+            restraint,
             &self.events,
         )?;
         self.times.iterations = t.elapsed().as_secs_f64();
@@ -293,6 +318,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         &mut self,
         local: &LocalMesh,
         problem: &Problem,
+        restraint: &Restraint,
         sol: &Solution,
     ) -> Result<Checked, Error> {
         let (world, s) = (self.world, &self.settings);
@@ -305,8 +331,14 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let rows = report::contact_rows(local, problem, &sol.state, &sol.solved.bound);
         let rows = report::gather_rows(world, &rows);
         let shape = checks::deformation(world, local, &u_local);
-        for w in checks::result_warnings(world, local, s, &sol.state, &shape) {
+        for w in checks::result_warnings(world, local, s, &problem.contact, &sol.state, &shape) {
             self.warn(w);
+        }
+        if !self.touched {
+            let touches = touching::touching(world, local, &restraint.bodies, Some(&u_local));
+            if let Some(w) = touching::warning(&restraint.bodies, &touches, true) {
+                self.warn(w);
+            }
         }
         Ok(Checked {
             diag,

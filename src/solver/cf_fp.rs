@@ -202,7 +202,9 @@ pub fn cf_fp<C: Communicator>(
             );
         }
         out.bound.clone_from(&s);
-        let stalled = !run.converged && run.iterations >= ctl.max_it;
+        // Stopped by its cap or stalled (a Tresca problem its bound cannot
+        // hold): the fixed point cannot converge either.
+        let stalled = !run.converged;
         out.last = run;
         if stalled {
             out.failure = out.last.failure.clone().map(|f| {

@@ -544,11 +544,15 @@ pub fn result_warnings<C: Communicator>(
     world: &C,
     local: &LocalMesh,
     settings: &Settings,
+    cs: &ContactSet,
     st: &UbrState,
     shape: &Deformation,
 ) -> Vec<String> {
     let mut out = Vec::new();
     let d = local.dim;
+    if settings.friction == Friction::Tresca {
+        out.extend(tresca_on_open(world, cs, st));
+    }
     let in_contact = allreduce_count(world, st.surface.in_contact.iter().filter(|&&c| c).count());
     if let (0, Some(contact)) = (in_contact, &settings.contact) {
         // The body's centre (mean of its nodes) against the obstacle.
@@ -588,4 +592,44 @@ pub fn result_warnings<C: Communicator>(
         ));
     }
     out
+}
+
+/// Friction carried by open candidates above this fraction of the whole
+/// friction force is named (Tresca).
+const OPEN_FRICTION: f64 = 0.05;
+
+/// The paper's Tresca law bounds the friction by s on all of Gamma_C,
+/// whether the node touches or not ([`crate::solver::ubr`], (5.2)): with a
+/// constant bound, candidates that never reach the obstacle carry friction
+/// too. Named when they carry more than [`OPEN_FRICTION`] of it.
+fn tresca_on_open<C: Communicator>(world: &C, cs: &ContactSet, st: &UbrState) -> Option<String> {
+    let d = cs.dim;
+    let sf = &st.surface;
+    // [sum w |lambda_t| on open candidates, on all, open count carrying
+    // friction, sum w lambda_n]
+    let mut acc = [0.0; 4];
+    for i in 0..cs.len() {
+        let lt = (0..d)
+            .map(|c| sf.stress_t[i * d + c].powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let f = cs.w[i] * lt;
+        acc[1] += f;
+        acc[3] += cs.w[i] * sf.stress_n[i].max(0.0);
+        if !sf.in_contact[i] && lt > 0.0 {
+            acc[0] += f;
+            acc[2] += 1.0;
+        }
+    }
+    let [open, all, count, normal] = allreduce_sum(world, acc);
+    if all <= 0.0 || open <= OPEN_FRICTION * all {
+        return None;
+    }
+    Some(format!(
+        "Tresca friction acts on {count:.0} open candidates (nodes that do not touch the obstacle): they carry {:.0}% of the friction force ({:.4e} of {:.4e}, against a total contact force of {:.4e}), because the Tresca law bounds the friction by -tresca_bound on the whole contact surface, touching or not (the paper's model); for friction only where the body touches, use -friction coulomb or -tresca_bound frictionless (nu_f times the frictionless contact pressure)",
+        100.0 * open / all,
+        open,
+        all,
+        normal
+    ))
 }

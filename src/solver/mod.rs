@@ -13,10 +13,12 @@ pub mod direct;
 pub mod linear;
 pub mod outcome;
 pub mod penalty;
+pub mod seat;
 pub mod snesvi;
 pub mod ssn;
 pub mod stopping;
 pub mod surface;
+pub mod touching;
 pub mod ubr;
 pub mod wellposed;
 

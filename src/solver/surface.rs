@@ -8,6 +8,7 @@
 //! zero on the components that carry a Dirichlet condition (their rows are
 //! eliminated from the linear system).
 
+use super::seat::Seat;
 use super::Problem;
 use crate::contact::ContactSet;
 use crate::error::Error;
@@ -175,6 +176,9 @@ pub struct UbrState {
     /// start: the stress scale of the accuracy test when nothing touches
     /// (a load-made scale, which no extrapolation inflates).
     pub stress_scale: f64,
+    /// The start after the rigid approach ([`super::seat`]), used at every
+    /// cold start instead of the paper's zero (None: the paper's).
+    pub seat: Option<Seat>,
 }
 
 impl UbrState {
@@ -191,15 +195,32 @@ impl UbrState {
             peak_stress: 0.0,
             cold: true,
             stress_scale: 0.0,
+            seat: None,
         })
     }
 
-    /// Back to the paper's initialization (a cold start).
+    /// Starts from the rigid approach's `seat` (and at every later cold
+    /// start): `phi^{-1} = A a`, `lambda^0` the rigid body's pressures.
+    pub fn set_seat(&mut self, seat: Option<Seat>) {
+        self.seat = seat;
+        self.apply_seat();
+    }
+
+    fn apply_seat(&mut self) {
+        if let Some(seat) = &self.seat {
+            self.surface.phi_n.copy_from_slice(&seat.phi_n);
+            self.surface.lambda_n.copy_from_slice(&seat.lambda_n);
+        }
+    }
+
+    /// Back to the start (a cold start): the paper's initialization, or
+    /// the rigid approach's seat.
     pub fn reset(&mut self) -> Result<(), Error> {
         self.surface.zero();
         self.peak_stress = 0.0;
         self.cold = true;
         self.stress_scale = 0.0;
+        self.apply_seat();
         self.u.set(0.0)
     }
 }

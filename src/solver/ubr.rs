@@ -32,7 +32,7 @@
 
 use super::anderson::Anderson;
 use super::deferred::{Candidate, Deferred, Resolution};
-use super::stopping::{paper_change, Accuracy, StopRule};
+use super::stopping::{paper_change, Accuracy, Progress, StopRule, STALL_ITS};
 use super::surface::{Surface, UbrState};
 use super::{allreduce_max_n, allreduce_sum, mass_norms, Problem};
 use crate::contact::{project_normal, project_normal_z, project_tangential, project_tangential_z};
@@ -81,6 +81,26 @@ pub struct UbrControl {
     pub inner_rtol_factor: f64,
     /// Anderson memory M (0: the paper's plain iteration).
     pub anderson: usize,
+    /// A candidate displaced by more than this has drifted away: the body
+    /// moves without bound (ten times the size of the bodies that contact
+    /// alone holds, and their largest gap; infinite where none is).
+    pub drift_limit: f64,
+    /// The trial r0 of `-ubr_r auto` where the user's r is more than
+    /// [`R_FAR`] times away from it (a likely cause of a failure).
+    pub r_far: Option<f64>,
+}
+
+/// A user's r this many times above or below the trial r0 is far outside
+/// the range `-ubr_r auto` chooses from (its estimates lie within a factor
+/// of about 30 of r0 on every scene measured).
+pub const R_FAR: f64 = 100.0;
+
+/// Words on an r far from the trial r0.
+fn r_far_words(r: f64, r0: f64) -> String {
+    format!(
+        "r = {r:.3e} (-ubr_r) is {:.1e} times the trial r0 = {r0:.3e} from which -ubr_r auto chooses (within a factor of about 30 of it): far outside the range where UBR converges in a reasonable number of iterations; use -ubr_r auto, or an r near r0",
+        r / r0
+    )
 }
 
 /// What one UBR run did.
@@ -195,10 +215,12 @@ struct Maxima {
     lam_t: f64,
     /// Largest change of u_n (negative: every candidate moved away).
     dun: f64,
+    /// Largest displacement component of a candidate.
+    umax: f64,
 }
 
 impl Maxima {
-    fn to_array(self) -> [f64; 8] {
+    fn to_array(self) -> [f64; 9] {
         [
             self.tension,
             self.stress,
@@ -208,9 +230,10 @@ impl Maxima {
             self.lam_n,
             self.lam_t,
             self.dun,
+            self.umax,
         ]
     }
-    fn from_array(a: [f64; 8]) -> Maxima {
+    fn from_array(a: [f64; 9]) -> Maxima {
         Maxima {
             tension: a[0],
             stress: a[1],
@@ -220,6 +243,7 @@ impl Maxima {
             lam_n: a[5],
             lam_t: a[6],
             dun: a[7],
+            umax: a[8],
         }
     }
 }
@@ -291,6 +315,7 @@ pub fn ubr<C: Communicator>(
     let mut uc = vec![0.0; nc * d];
     let mut uc_prev = vec![0.0; nc * d];
     let mut acc = Accuracy::new(ctl.lambda_rtol);
+    let mut progress = Progress::default();
     // The paper's test on the condensed back-end: candidates decided later.
     // Their decision leaves the whole displacement of the chosen one in u.
     let mut deferred = (paper && lin.is_condensed()).then(|| Deferred::new(lumped_mass.len() * d));
@@ -368,6 +393,9 @@ pub fn ubr<C: Communicator>(
             ext.tension = ext.tension.max(-stress);
             ext.stress = ext.stress.max(stress.abs());
             ext.un = ext.un.max(uni.abs());
+            for cc in 0..d {
+                ext.umax = ext.umax.max(uc[i * d + cc].abs());
+            }
             ext.dun = ext.dun.max(uni - st.un[i]);
             let f = stress - st.lambda_n[i];
             ext.f_n = ext.f_n.max(f.abs());
@@ -597,6 +625,34 @@ pub fn ubr<C: Communicator>(
                 "nothing holds the body along the contact direction: no node touches the obstacle and the body moves away from it by the same step every iteration ({DRIFT_ITS} iterations of {name}), so the loads pull it off the obstacle; check the signs of the loads, the contact direction (-contact_direction points from the body toward the obstacle) and the obstacle's position"
             )));
         }
+        // Any body that contact alone holds, moving without bound: no
+        // contact state holds the loads (a Tresca bound too small for the
+        // tangential load, a pressure that friction cannot use).
+        if ext.umax > ctl.drift_limit {
+            if let Some(r0) = ctl.r_far {
+                return Err(Error::NotConverged(format!(
+                    "{name}: the iterates move without bound (a contact node has moved {:.3e} after {k} iterations): {}",
+                    ext.umax,
+                    r_far_words(r, r0)
+                )));
+            }
+            let what = if sums.contact == 0.0 {
+                "no node touches the obstacle".to_string()
+            } else if friction_bound.is_some() && sums.stick == 0.0 && !no_friction {
+                format!(
+                    "every one of the {} contact nodes slips: friction cannot hold the tangential load with the pressures this body develops, and the body slides",
+                    sums.contact
+                )
+            } else {
+                format!("{} nodes touch the obstacle", sums.contact)
+            };
+            return Err(Error::NotConverged(format!(
+                "{name}: the body moves without bound: after {k} iterations a contact node has moved {:.3e}, ten times the size and gap of the bodies that only contact holds ({:.3e}); {what}; no contact state found holds the loads (lower the loads, raise the friction, or add a Dirichlet condition; where another method finds an answer, the iteration is at fault: try -ubr_anderson 0)",
+                ext.umax,
+                ctl.drift_limit / 10.0
+            )));
+        }
+        let stalled = progress.record(p, sums.changes as usize);
         // Held-body tests: where nodes touch, the stress of u^k must not turn
         // tensile; where none does, an open node's stress is the lag
         // r (u_n^k - u_n^{k-1}), which dies out with the iteration when the
@@ -610,7 +666,7 @@ pub fn ubr<C: Communicator>(
                 ext.stress <= ctl.rtol * state.peak_stress || ext.stress <= 1e-13 * r * ext.un;
             (decayed, true)
         };
-        let last = k >= ctl.max_it;
+        let last = k >= ctl.max_it || stalled;
         if !paper {
             if k >= 2 && acc.satisfied() {
                 out.converged = true;
@@ -700,6 +756,9 @@ pub fn ubr<C: Communicator>(
                 break;
             }
         }
+        if stalled {
+            break;
+        }
         if let Some(zi) = z_in.as_ref().filter(|_| aa.is_some()) {
             // The next (phi, lambda): the projection of the new z (rho = r).
             let st = &mut state.surface;
@@ -752,7 +811,12 @@ pub fn ubr<C: Communicator>(
         })?;
     }
     if !out.converged {
-        out.failure = Some(failure(name, ctl, &out, r, &acc));
+        out.failure = Some(if progress.since >= STALL_ITS {
+            let friction = friction_bound.is_some() && !no_friction;
+            stalled(name, ctl, &out, r, &acc, &progress, friction)
+        } else {
+            failure(name, ctl, &out, r, &acc)
+        });
     }
     if root && ctl.monitor && aa.is_some() {
         println!(
@@ -763,10 +827,65 @@ pub fn ubr<C: Communicator>(
     Ok(out)
 }
 
+/// The message of a run stopped because it made no progress: what it
+/// stalled at, and the likely cause.
+fn stalled(
+    name: &str,
+    ctl: &UbrControl,
+    out: &UbrOutcome,
+    r: f64,
+    acc: &Accuracy,
+    progress: &Progress,
+    friction: bool,
+) -> String {
+    let its = out.iterations;
+    let target = if ctl.stop == StopRule::Paper {
+        format!(
+            "relative change (4.16) {:.3e} (target -ubr_rtol {:.1e})",
+            out.criterion, ctl.rtol
+        )
+    } else {
+        format!(
+            "error estimate of lambda {:.3e} (target -ubr_lambda_rtol {:.1e} / 4)",
+            acc.estimate, ctl.lambda_rtol
+        )
+    };
+    let cause = if friction && out.contact > 0 && out.stick == 0 {
+        format!(
+            "every one of the {} contact nodes slips: the bound s cannot hold the tangential load, and the body slides (with Coulomb friction: friction cannot hold the loads with the pressures this body develops; lower the tangential load or raise -friction_coefficient)",
+            out.contact
+        )
+    } else if let Some(r0) = ctl.r_far {
+        r_far_words(r, r0)
+    } else if out.contact == 0 {
+        "no node touches the obstacle at the last iterations although the loads push the body along a motion that only the contact holds: the iterates do not reach a contact state that holds them (no contact reached); check the obstacle's position and the loads, or try -ubr_anderson 0".to_string()
+    } else if progress.changes >= progress.since / 10 {
+        format!(
+            "contact statuses changed {} times in those iterations: the contact set cycles between states, as when the contact zone is a few nodes or a point smaller than a cell; refine the mesh where the body touches, or loosen -ubr_lambda_rtol",
+            progress.changes
+        )
+    } else {
+        format!(
+            "{} nodes touch the obstacle and the contact set has settled, yet the residual stays flat at r = {r:.3e}; try -ubr_anderson 0 or another r",
+            out.contact
+        )
+    };
+    format!(
+        "{name} stalled: its residual has not halved in the last {} iterations (best {:.3e}), stopped after {its} of -ubr_max_it {}; {target}; {cause}",
+        progress.since, progress.best, ctl.max_it
+    )
+}
+
 /// The message of a run stopped by the iteration cap: the failing test,
 /// its value and target, and what to try.
 fn failure(name: &str, ctl: &UbrControl, out: &UbrOutcome, r: f64, acc: &Accuracy) -> String {
     let its = out.iterations;
+    if its == 0 {
+        return format!(
+            "{name} ran no iteration (-ubr_max_it {}): the answer is its start (no contact stress); give -ubr_max_it at least 1 (default 10000)",
+            ctl.max_it
+        );
+    }
     if ctl.stop == StopRule::Paper {
         return format!(
             "{name} stopped after {its} iterations (-ubr_max_it): relative change (4.16) {:.3e} (target -ubr_rtol {:.1e}), constraint residual {:.3e} (target -ubr_residual_tol {:.1e}); try more iterations, -ubr_anderson 10, or the default stopping test (-ubr_stop accuracy)",

@@ -173,6 +173,21 @@ impl Bodies {
         self.center.len()
     }
 
+    /// The diameter of body `b`'s bounding box.
+    pub fn size(&self, b: usize) -> f64 {
+        self.size[b]
+    }
+
+    /// The centre of body `b`'s bounding box.
+    pub fn center(&self, b: usize) -> [f64; 3] {
+        self.center[b]
+    }
+
+    /// The mesh's dimension.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
     pub fn is_empty(&self) -> bool {
         self.center.is_empty()
     }
@@ -465,21 +480,36 @@ fn free_message(
     format!("{body} is free to {what}: {hint}")
 }
 
-/// Frictionless contact can only push: along the rigid motions that only
-/// contact holds, the loads must be balanced by non-negative pressures.
-/// That is, the load's components `b_j = f . v_j` on those motions must lie
-/// in the cone of the candidates' pressure directions `a_i = w_i (n . v_j(x_i))_j`
-/// (a non-negative least-squares problem in at most 6 unknowns' worth of
-/// rows, solved on rank 0). Outside it no equilibrium exists: the loads pull
-/// the body off the obstacle, an ill-posed scene named now rather than met as
-/// a drift. (The prescribed displacements do no work on these motions, which
-/// vanish at the Dirichlet dofs; the gaps only decide where the body touches.)
+/// Rays of the polygonal friction cone in 3D (the circular cone lies
+/// between the polygon through the rays and the one around them).
+const CONE_RAYS: usize = 16;
+
+/// Can the contact hold the loads? Along the rigid motions that no
+/// Dirichlet condition restrains (`K v_j = 0`), every solution balances the
+/// load's work `b_j = f . v_j` by contact forces alone:
+/// `b = sum_i w_i (lambda_n,i a_i + lambda_t,i . t_i)` with
+/// `a_i = (n . v_j(x_i))_j`, `t_i` the tangential displacements of the
+/// motions. Frictionless contact can only push (`lambda_n >= 0`, no
+/// `lambda_t`); with Coulomb friction the force lies in the cone
+/// `|lambda_t| <= nu_f lambda_n`, spanned by the rays `n + nu_f t` (two in
+/// 2D; in 3D a polygon of [`CONE_RAYS`] rays, taken around the circle so
+/// that a load outside it is surely outside the circular cone). So the
+/// scene has a solution only if b lies in the cone of those columns, a
+/// non-negative least-squares problem in at most 6 rows per body (solved
+/// on rank 0). Outside it no equilibrium exists, whatever the gaps (they
+/// only decide where the body touches) and the prescribed displacements
+/// (which do no work on these motions): the loads pull the body off the
+/// obstacle, or push it along harder than friction can hold, an
+/// ill-posed scene named now (exit 2) rather than met as a drift of
+/// thousands of iterations. With `coulomb` None the friction is taken as
+/// absent (frictionless contact; a Tresca bound is not checked here).
 pub fn check_loads<C: Communicator>(
     world: &C,
     mesh: &LocalMesh,
     restraint: &Restraint,
     cs: &ContactSet,
     load: &[f64],
+    coulomb: Option<f64>,
 ) -> Result<(), Error> {
     let modes = &restraint.contact_held;
     let k = modes.len();
@@ -487,43 +517,82 @@ pub fn check_loads<C: Communicator>(
         return Ok(());
     }
     let d = mesh.dim;
-    // b = f . v_j over the owned nodes.
-    let mut b = vec![0.0; k];
+    let bodies = &restraint.bodies;
+    // b = f . v_j over the owned nodes, and the resultant of the load on
+    // the bodies that have such motions (for the message).
+    let mut b = vec![0.0; k + 3];
+    let mut has_modes = vec![false; bodies.len()];
+    for m in modes {
+        has_modes[m.body] = true;
+    }
     for v in 0..mesh.owned_count {
         let x = mesh.x(v);
+        let body = bodies.node_body[v];
         for (j, m) in modes.iter().enumerate() {
-            if restraint.bodies.node_body[v] != m.body {
+            if body != m.body {
                 continue;
             }
-            let u = restraint.bodies.displacement(m, x);
+            let u = bodies.displacement(m, x);
             for c in 0..d {
                 b[j] += load[v * d + c] * u[c];
             }
         }
+        if has_modes[body] {
+            for c in 0..d {
+                b[k + c] += load[v * d + c];
+            }
+        }
     }
     let b = allreduce_sum_vec(world, &b);
-    // The columns a_i of the owned candidates, gathered on rank 0.
-    let mut cols: Vec<f64> = Vec::with_capacity(cs.len() * k);
+    let (b, resultant) = b.split_at(k);
+    // The tangent directions of the rays: +-t in 2D, CONE_RAYS around n in 3D.
+    let n = &cs.n;
+    let tangents = tangent_rays(n);
+    let nu = coulomb.unwrap_or(0.0);
+    // The outer polygon: its rays reach nu / cos(pi / CONE_RAYS) in 3D.
+    let nu_out = if d == 3 {
+        nu / (std::f64::consts::PI / CONE_RAYS as f64).cos()
+    } else {
+        nu
+    };
+    let rays: Vec<[f64; 3]> = if coulomb.is_some() && nu > 0.0 {
+        tangents
+            .iter()
+            .map(|t| {
+                [
+                    n[0] + nu_out * t[0],
+                    n[1] + nu_out * t[1],
+                    n.get(2).copied().unwrap_or(0.0) + nu_out * t[2],
+                ]
+            })
+            .collect()
+    } else {
+        vec![[n[0], n[1], n.get(2).copied().unwrap_or(0.0)]]
+    };
+    // The columns of the owned candidates, gathered on rank 0.
+    let mut cols: Vec<f64> = Vec::with_capacity(cs.len() * k * rays.len());
     for (i, &v) in cs.node.iter().enumerate() {
         let x = mesh.x(v);
-        for m in modes {
-            let a = if restraint.bodies.node_body[v] == m.body {
-                let u = restraint.bodies.displacement(m, x);
-                cs.w[i] * (0..d).map(|c| u[c] * cs.n[c]).sum::<f64>()
-            } else {
-                0.0
-            };
-            cols.push(a);
+        for ray in &rays {
+            for m in modes {
+                let a = if bodies.node_body[v] == m.body {
+                    let u = bodies.displacement(m, x);
+                    cs.w[i] * (0..d).map(|c| u[c] * ray[c]).sum::<f64>()
+                } else {
+                    0.0
+                };
+                cols.push(a);
+            }
         }
     }
     let root = world.process_at_rank(0);
     let all = Layout::new(world, cols.len()).gather(world, &cols);
-    let mut verdict = [0.0f64; 2]; // [pulled off?, relative residual]
+    let mut verdict = [0.0f64; 2]; // [no equilibrium?, relative residual]
     if world.rank() == 0 {
         let total = all.len();
-        let n = total / k;
-        let a = DMatrix::from_column_slice(k, n, &all);
-        let bv = nalgebra::DVector::from_column_slice(&b);
+        let ncols = total / k;
+        let a = DMatrix::from_column_slice(k, ncols, &all);
+        let bv = nalgebra::DVector::from_column_slice(b);
         let bn = bv.norm();
         if bn > 0.0 {
             let x = nnls(&a, &bv);
@@ -532,13 +601,84 @@ pub fn check_loads<C: Communicator>(
         }
     }
     root.broadcast_into(&mut verdict[..]);
-    if verdict[0] > 0.0 {
-        return Err(Error::IllPosed(format!(
-            "the loads pull the body off the obstacle: along the motions that only the contact holds, no contact pressure (which can only push) balances them (relative residual {:.2}), so nothing holds the body; check the signs of the loads, the contact direction (-contact_direction points from the body toward the obstacle) and the obstacle's position",
-            verdict[1]
-        )));
+    if verdict[0] == 0.0 {
+        return Ok(());
     }
-    Ok(())
+    let fmt = |v: f64| format!("{v:.4e}");
+    let hint = "check the signs of the loads, the contact direction (-contact_direction points from the body toward the obstacle) and the obstacle's position";
+    // The resultant speaks plainly where the contact alone holds every
+    // translation of a single body: N = F.n must push, |F_t| <= nu_f N.
+    let translations_free = bodies.len() == 1
+        && (0..d).all(|c| {
+            let p2: f64 = modes.iter().map(|m| m.coef[c] * m.coef[c]).sum();
+            p2 > 1.0 - 1e-8
+        });
+    let f_n: f64 = (0..d).map(|c| resultant[c] * n[c]).sum();
+    let f_t = (0..d)
+        .map(|c| (resultant[c] - f_n * n[c]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let message = if translations_free && f_n <= 0.0 {
+        format!(
+            "the loads pull the body off the obstacle: their resultant along the contact direction is {} (it must push the body onto the obstacle, > 0), and nothing else holds the body; {hint}",
+            fmt(f_n)
+        )
+    } else if translations_free && coulomb.is_some() && f_t > nu * f_n {
+        format!(
+            "the tangential load {} exceeds nu_f N = {} x {} = {}: friction cannot hold the body (no Dirichlet condition holds it along the obstacle); lower the tangential load, raise -friction_coefficient, or add a Dirichlet condition",
+            fmt(f_t),
+            nu,
+            fmt(f_n),
+            fmt(nu * f_n)
+        )
+    } else if coulomb.is_some() {
+        format!(
+            "the contact cannot hold the loads: along the rigid motions that no Dirichlet condition restrains, no contact forces within the friction cone (|lambda_t| <= nu_f lambda_n = {nu} lambda_n) balance them (relative residual {:.2}), so the body slides, tips or lifts off; lower the loads, raise -friction_coefficient, or add a Dirichlet condition; {hint}",
+            verdict[1]
+        )
+    } else {
+        format!(
+            "the loads pull the body off the obstacle: along the motions that only the contact holds, no contact pressure (which can only push) balances them (relative residual {:.2}), so nothing holds the body; {hint}",
+            verdict[1]
+        )
+    };
+    Err(Error::IllPosed(message))
+}
+
+/// Unit tangents of the friction cone's rays around n: `t, -t` in 2D
+/// (`t = (-n_y, n_x)`), [`CONE_RAYS`] directions around n in 3D.
+fn tangent_rays(n: &[f64]) -> Vec<[f64; 3]> {
+    if n.len() == 2 {
+        return vec![[-n[1], n[0], 0.0], [n[1], -n[0], 0.0]];
+    }
+    // t1: the axis least aligned with n, made orthogonal; t2 = n x t1.
+    let axis = (0..3)
+        .min_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
+        .unwrap_or(0);
+    let mut t1 = [0.0; 3];
+    t1[axis] = 1.0;
+    let dot: f64 = (0..3).map(|c| t1[c] * n[c]).sum();
+    for c in 0..3 {
+        t1[c] -= dot * n[c];
+    }
+    let norm = (t1.iter().map(|v| v * v).sum::<f64>()).sqrt();
+    t1.iter_mut().for_each(|v| *v /= norm);
+    let t2 = [
+        n[1] * t1[2] - n[2] * t1[1],
+        n[2] * t1[0] - n[0] * t1[2],
+        n[0] * t1[1] - n[1] * t1[0],
+    ];
+    (0..CONE_RAYS)
+        .map(|q| {
+            let th = 2.0 * std::f64::consts::PI * q as f64 / CONE_RAYS as f64;
+            let (s, c) = th.sin_cos();
+            [
+                c * t1[0] + s * t2[0],
+                c * t1[1] + s * t2[1],
+                c * t1[2] + s * t2[2],
+            ]
+        })
+        .collect()
 }
 
 /// Non-negative least squares `min ||A x - b||, x >= 0` (Lawson and

@@ -1,0 +1,447 @@
+//! Issue "Trust at the edges": the wrong or silent answers a new user met.
+//!
+//! - Item 1: a body that only the contact holds, starting with a gap (or an
+//!   initial penetration) from 1e-8 to 1e-2 of its size, rests on the
+//!   obstacle: 2D and 3D, frictionless and Coulomb, on 1 and 2 ranks. Each
+//!   run's contact force equals the body's weight (closed form, rho g V),
+//!   and its contact stresses are within the accuracy promise (1e-3) of a
+//!   tight solve of the same body starting in contact (a gap only moves a
+//!   floating body rigidly: the stresses are the same). Before the rigid
+//!   approach, a 2D steel block 0.1 mm above the floor ended in "0 nodes in
+//!   contact", u_n = -9e4 m and exit 3; gaps of 1e-7 failed too.
+//! - Item 5: loads that friction cannot hold are refused before the solve,
+//!   in words with the numbers, in seconds.
+//! - Item 6: non-convergence named by its cause, and stopped early.
+//! - Items 3, 4: Tresca friction on open candidates is named; the default
+//!   Tresca bound's own error is part of the estimate, and the promise holds.
+
+mod common;
+use common::*;
+use std::path::PathBuf;
+use std::process::Command;
+
+/// Meshes `tests/edges/NAME.geo` (2D or 3D) into a scratch directory.
+fn mesh(test: &str, name: &str, dim: usize) -> (PathBuf, String) {
+    mesh_with(test, name, dim, &[])
+}
+
+/// [`mesh`] with Gmsh arguments (`-setnumber gap 0.001`).
+fn mesh_with(test: &str, name: &str, dim: usize, extra: &[&str]) -> (PathBuf, String) {
+    let dir = scratch(test);
+    let msh = dir.join(format!("{name}.msh"));
+    let run = Command::new("gmsh")
+        .arg(format!("-{dim}"))
+        .args(extra)
+        .args(["-format", "msh41", "-o"])
+        .arg(&msh)
+        .arg(root().join("tests/edges").join(format!("{name}.geo")))
+        .output()
+        .expect("gmsh runs (apt-get install gmsh)");
+    assert!(
+        run.status.success() && msh.exists(),
+        "gmsh failed on {name}"
+    );
+    let path = msh.to_str().unwrap().to_string();
+    (dir, path)
+}
+
+/// Steel: E 2e11, nu 0.3, density 7850, g 9.81.
+const RHO_G: f64 = 7850.0 * 9.81;
+/// The blocks' size (their longest side) and weights.
+const SIZE: f64 = 0.1;
+const WEIGHT_2D: f64 = RHO_G * 0.1 * 0.05;
+const WEIGHT_3D: f64 = RHO_G * 0.1 * 0.06 * 0.05;
+
+/// The options of a resting block: `dim`, Coulomb friction or none, the
+/// obstacle plane `gap` below the bottom face (negative: penetration).
+fn block_args(msh: &str, dim: usize, coulomb: bool, gap: f64) -> Vec<String> {
+    let mut a: Vec<String> = [
+        "-mesh",
+        msh,
+        "-E",
+        "2e11",
+        "-nu",
+        "0.3",
+        "-density",
+        "7850",
+        "-contact_surface",
+        "bottom",
+        "-obstacle",
+        "plane",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let (g, n, p) = if dim == 2 {
+        ("0,-9.81", "0,-1", format!("0,{}", -gap))
+    } else {
+        ("0,0,-9.81", "0,0,-1", format!("0,0,{}", -gap))
+    };
+    for (k, v) in [
+        ("-gravity", g.to_string()),
+        ("-contact_direction", n.to_string()),
+        ("-obstacle_point", p),
+    ] {
+        a.push(k.into());
+        a.push(v);
+    }
+    if coulomb {
+        // Held sideways by friction alone, pushed below what it can carry
+        // (2D: 100 of 115.5 N/m; 3D: 3.9 of 6.93 N).
+        let push = if dim == 2 { "-2000,0" } else { "-1300,0,0" };
+        a.extend(
+            [
+                "-friction",
+                "coulomb",
+                "-friction_coefficient",
+                "0.3",
+                "-traction_right",
+                push,
+            ]
+            .iter()
+            .map(|s| s.to_string()),
+        );
+    } else if dim == 2 {
+        a.extend(["-dirichlet_left", "ux=0"].iter().map(|s| s.to_string()));
+    } else {
+        a.extend(
+            ["-dirichlet_left", "ux=0", "-dirichlet_front", "uy=0"]
+                .iter()
+                .map(|s| s.to_string()),
+        );
+    }
+    a
+}
+
+fn tangential_gap(a: &[Row], b: &[Row]) -> f64 {
+    let norm = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let peak = b.iter().map(|r| norm(&r.lambda_t)).fold(0.0, f64::max);
+    let worst = a
+        .iter()
+        .zip(b)
+        .map(|(p, q)| {
+            assert_eq!(p.node, q.node);
+            let d = [
+                p.lambda_t[0] - q.lambda_t[0],
+                p.lambda_t[1] - q.lambda_t[1],
+                p.lambda_t[2] - q.lambda_t[2],
+            ];
+            norm(&d)
+        })
+        .fold(0.0, f64::max);
+    if worst == 0.0 {
+        0.0
+    } else {
+        worst / peak
+    }
+}
+
+fn resting(dim: usize, coulomb: bool) {
+    let name = format!("rest{dim}d{}", if coulomb { "_coulomb" } else { "" });
+    let (dir, msh) = mesh(&name, &format!("block{dim}d"), dim);
+    let weight = if dim == 2 { WEIGHT_2D } else { WEIGHT_3D };
+    // The reference: starting in contact, solved tightly.
+    let mut args = block_args(&msh, dim, coulomb, 0.0);
+    args.extend(["-ubr_lambda_rtol".into(), "1e-8".into()]);
+    let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+    let (_, _, reference) = solve_rows(&format!("{name}_ref"), 1, &a);
+    for rel in [1e-8, 1e-6, 1e-4, 1e-2, -1e-4, -1e-2] {
+        for ranks in [1, 2] {
+            let args = block_args(&msh, dim, coulomb, rel * SIZE);
+            let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+            let tag = format!("{name}_{rel:e}_n{ranks}");
+            let (run, rep, rows) = solve_rows(&tag, ranks, &a);
+            let force = num(&rep, "contact_force");
+            assert!(
+                (force - weight).abs() <= 1e-6 * weight,
+                "{tag}: contact force {force} against the weight {weight}\n{}",
+                run.stdout
+            );
+            let en = max_pressure_gap(&rows, &reference);
+            assert!(en <= 1e-3, "{tag}: pressure error {en:.3e}\n{}", run.stdout);
+            if coulomb {
+                let et = tangential_gap(&rows, &reference);
+                assert!(et <= 1e-3, "{tag}: friction error {et:.3e}\n{}", run.stdout);
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn resting_2d_frictionless() {
+    resting(2, false);
+}
+
+#[test]
+fn resting_2d_coulomb() {
+    resting(2, true);
+}
+
+#[test]
+fn resting_3d_frictionless() {
+    resting(3, false);
+}
+
+#[test]
+fn resting_3d_coulomb() {
+    resting(3, true);
+}
+
+/// The one line of an error, and its exit status.
+fn refused(run: &Run, status: i32, needles: &[&str]) {
+    assert_eq!(run.status, Some(status), "{}\n{}", run.stdout, run.stderr);
+    let lines: Vec<&str> = run
+        .stderr
+        .lines()
+        .filter(|l| l.starts_with("error:") || l.starts_with("not converged:"))
+        .collect();
+    assert_eq!(lines.len(), 1, "one message: {}", run.stderr);
+    for n in needles {
+        assert!(lines[0].contains(n), "'{n}' in: {}", lines[0]);
+    }
+    assert!(!run.stderr.contains("Traceback") && !run.stderr.contains("PETSC ERROR"));
+}
+
+/// Item 2: two blocks meshed apart, both bottoms declared against the
+/// floor: the upper one falls through the lower one (two-body contact is
+/// not modelled), and the user is told, before the solve where they touch
+/// in the mesh, after it where the deformed parts interpenetrate. Before:
+/// exit 0, "converged", and not a word. Blocks that stay apart: no word.
+#[test]
+fn touching_parts_are_named() {
+    let args = |msh: &str, upper_held: bool| -> Vec<String> {
+        let mut a: Vec<String> = [
+            "-mesh",
+            msh,
+            "-E",
+            "1e9",
+            "-nu",
+            "0.3",
+            "-density",
+            "1000",
+            "-gravity",
+            "0,-9.81",
+            "-dirichlet_left_lower",
+            "ux=0",
+            "-contact_direction",
+            "0,-1",
+            "-obstacle",
+            "plane",
+            "-obstacle_point",
+            "0,0",
+            "-pressure_top",
+            "1e5",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        if upper_held {
+            a.extend(
+                [
+                    "-dirichlet_left_upper",
+                    "ux=0,uy=0",
+                    "-contact_surface",
+                    "bottom_lower",
+                ]
+                .map(String::from),
+            );
+        } else {
+            a.extend(
+                [
+                    "-dirichlet_left_upper",
+                    "ux=0",
+                    "-contact_surface",
+                    "bottom_lower,bottom_upper",
+                ]
+                .map(String::from),
+            );
+        }
+        a
+    };
+    for (gap, held, needle) in [
+        ("0", false, Some("touch or overlap in the mesh as given")),
+        ("0.001", false, Some("interpenetrate in the deformed shape")),
+        ("0.03", true, None),
+    ] {
+        let (dir, msh) = mesh_with(
+            &format!("touching{gap}"),
+            "stacked2d",
+            2,
+            &["-setnumber", "gap", gap],
+        );
+        for ranks in [1, 2] {
+            let a = args(&msh, held);
+            let a: Vec<&str> = a.iter().map(|s| s.as_str()).collect();
+            let run = mpirun(ranks, &a);
+            assert_eq!(run.status, Some(0), "{}\n{}", run.stdout, run.stderr);
+            let lines: Vec<&str> = run
+                .stderr
+                .lines()
+                .filter(|l| l.contains("contact between bodies is not modelled"))
+                .collect();
+            match needle {
+                Some(n) => {
+                    assert_eq!(lines.len(), 1, "gap {gap}: {}", run.stderr);
+                    assert!(
+                        lines[0].starts_with("warning: ") && lines[0].contains(n),
+                        "{}",
+                        lines[0]
+                    );
+                }
+                None => assert!(lines.is_empty(), "gap {gap}: {}", run.stderr),
+            }
+        }
+        let _ = std::fs::remove_dir_all(dir);
+    }
+}
+
+/// Item 5: pushed harder than friction can hold, refused before the solve
+/// (the 2D block: 150 N/m against nu_f N = 0.3 x 385.04 = 115.5 N/m; the 3D
+/// block: 7.2 N against 6.93 N), and a pulling load on a body that only
+/// friction and contact hold. Before: 10,000 iterations (minutes in 3D) and
+/// "the body is not held".
+#[test]
+fn friction_limit_is_refused_in_words() {
+    let (dir, msh2) = mesh("friction_limit", "block2d", 2);
+    let (dir3, msh3) = mesh("friction_limit3", "block3d", 3);
+    let mut cases: Vec<(Vec<String>, Vec<&str>)> = Vec::new();
+    let mut a = block_args(&msh2, 2, true, 1e-4);
+    a.extend(["-traction_right".into(), "-3000,0".into()]);
+    cases.push((
+        a,
+        vec![
+            "the tangential load 1.5000e2 exceeds nu_f N",
+            "1.1551e2",
+            "friction cannot hold the body",
+        ],
+    ));
+    let mut a = block_args(&msh3, 3, true, 1e-4);
+    a.extend(["-traction_right".into(), "-2400,0,0".into()]);
+    cases.push((
+        a,
+        vec![
+            "the tangential load 7.2000e0 exceeds nu_f N",
+            "friction cannot hold the body",
+        ],
+    ));
+    let mut a = block_args(&msh2, 2, true, 0.0);
+    a.extend(["-traction_top".into(), "0,10000".into()]);
+    cases.push((a, vec!["pull the body off the obstacle"]));
+    for (args, needles) in &cases {
+        for ranks in [1, 2] {
+            let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+            let run = mpirun(ranks, &a);
+            refused(&run, 2, needles);
+            assert!(run.seconds < 5.0, "took {:.1} s", run.seconds);
+        }
+    }
+    let _ = std::fs::remove_dir_all(dir);
+    let _ = std::fs::remove_dir_all(dir3);
+}
+
+/// Item 6: the cause named, and a stalled run stopped early.
+#[test]
+fn failures_name_their_cause() {
+    let hertz = |extra: &[&str]| -> Run {
+        let mut a = vec!["-options_file", "options/hertz"];
+        a.extend_from_slice(extra);
+        mpirun(2, &a)
+    };
+    // No iteration: the cap, not "the body is not held".
+    let run = hertz(&["-ubr_max_it", "0"]);
+    refused(&run, 3, &["ran no iteration", "-ubr_max_it 0"]);
+    assert!(!run.stderr.contains("not held"));
+    // r 5e26 times too large: stalled within STALL_ITS iterations, r named.
+    let run = hertz(&["-ubr_r", "1e30"]);
+    refused(&run, 3, &["stalled", "-ubr_r", "trial r0", "-ubr_r auto"]);
+    assert!(run.stderr.contains("warning: -ubr_r 1.000e30"));
+    let its: usize = run
+        .stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("iterations"))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|v| v.trim_end_matches(',').parse().ok())
+        .expect("iterations in the summary");
+    assert!(its <= 600, "stopped after {its} iterations");
+    // r 1e-34 times too small: r named.
+    let run = hertz(&["-ubr_r", "1e-30"]);
+    refused(&run, 3, &["-ubr_r", "trial r0"]);
+}
+
+/// The beam of items 3 and 4: clamped at its root, pressed onto the plane
+/// 0.2 mm below by a pressure on its top, pulled along its axis at its tip.
+fn beam_args(msh: &str) -> Vec<&str> {
+    vec![
+        "-mesh",
+        msh,
+        "-E",
+        "2e11",
+        "-nu",
+        "0.3",
+        "-dirichlet_root",
+        "ux=0,uy=0,uz=0",
+        "-pressure_top",
+        "2e6",
+        "-traction_tip",
+        "2e6,0,0",
+        "-contact_surface",
+        "bottom",
+        "-contact_direction",
+        "0,0,-1",
+        "-obstacle",
+        "plane",
+        "-obstacle_point",
+        "0,0,-2e-4",
+        "-friction",
+        "tresca",
+        "-friction_coefficient",
+        "0.3",
+    ]
+}
+
+/// Item 3: a constant Tresca bound acts on the open candidates too (the
+/// paper's model): named when they carry a good part of the friction.
+#[test]
+fn tresca_on_open_candidates_is_named() {
+    let (dir, msh) = mesh("tresca_open", "beam3d", 3);
+    let mut a = beam_args(&msh);
+    a.extend_from_slice(&["-tresca_bound", "1e7"]);
+    let run = mpirun(2, &a);
+    assert_eq!(run.status, Some(0), "{}\n{}", run.stdout, run.stderr);
+    assert!(
+        run.stderr.contains("warning: Tresca friction acts on")
+            && run.stderr.contains("open candidates"),
+        "{}",
+        run.stderr
+    );
+    // The default bound (nu_f lambda_c, zero where nothing touches): no word.
+    let run = mpirun(2, &beam_args(&msh));
+    assert_eq!(run.status, Some(0), "{}\n{}", run.stdout, run.stderr);
+    assert!(!run.stderr.contains("open candidates"), "{}", run.stderr);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Item 4: with the default bound nu_f lambda_c of a frictionless solve,
+/// the tangential stresses are within the promised 1e-3 of a tight solve.
+/// Before: the frictionless solve at the same target, its error entering
+/// lambda_t whole at slipping nodes (the issue's beam: estimate 1.6e-4,
+/// true error 1.2e-3).
+#[test]
+fn tresca_default_bound_keeps_the_promise() {
+    let (dir, msh) = mesh("tresca_promise", "beam3d", 3);
+    let a = beam_args(&msh);
+    let (_, rep, rows) = solve_rows("tresca_promise_def", 2, &a);
+    let mut tight = beam_args(&msh);
+    tight.extend_from_slice(&["-ubr_lambda_rtol", "1e-9"]);
+    let (_, _, reference) = solve_rows("tresca_promise_ref", 1, &tight);
+    let estimate = num(&rep, "lambda_error_estimate");
+    let en = max_pressure_gap(&rows, &reference);
+    let et = tangential_gap(&rows, &reference);
+    assert!(
+        en <= 1e-3 && et <= 1e-3,
+        "normal {en:.3e}, tangential {et:.3e}"
+    );
+    assert!(estimate <= 0.25e-3, "estimate {estimate:.3e}");
+    let _ = std::fs::remove_dir_all(dir);
+}
