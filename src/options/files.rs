@@ -202,7 +202,7 @@ fn parse(bytes: &[u8], file: &str) -> Result<(Vec<(usize, Line)>, bool), String>
                     "options file '{file}' line {n}: '{first}' is not an option name (a letter follows the '-')"
                 ));
             }
-            if let Some(second) = t.get(1).filter(|s| is_key(s)) {
+            if let Some(second) = t[1..].iter().find(|s| is_key(s)) {
                 return Err(format!(
                     "options file '{file}' line {n}: two options on one line ({first} {second}): PETSc takes one option per line"
                 ));
@@ -513,6 +513,7 @@ mod tests {
             "{e}"
         );
         assert!(err("-E -nu").contains("two options"));
+        assert!(err("-E 1 -nu 0.3").contains("two options on one line (-E -nu)"));
         assert!(err("E 1").contains("'E' is not an option"));
         assert!(err("-1x 3").contains("not an option name"));
         assert!(parse(&[0xFF, 0xFE, b'-'], "f")

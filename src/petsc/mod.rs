@@ -454,8 +454,14 @@ pub mod registry {
             let mut copy: sys::PetscOptions = std::ptr::null_mut();
             check_text(sys::PetscOptionsCreate(&mut copy))?;
             let mut ksp: sys::KSP = std::ptr::null_mut();
-            let read = check_text(sys::PetscOptionsInsertString(copy, all.as_ptr()))
-                .and_then(|()| check_text(sys::KSPCreate(comm_self(), &mut ksp)))
+            if sys::PetscOptionsInsertString(copy, all.as_ptr()) != 0 {
+                // Not a copy to judge by (PETSc's listing does not quote
+                // values): the run's solver will read the options itself.
+                take_error(0);
+                sys::PetscOptionsDestroy(&mut copy);
+                return Ok(Vec::new());
+            }
+            let read = check_text(sys::KSPCreate(comm_self(), &mut ksp))
                 .and_then(|()| {
                     check_text(sys::PetscObjectSetOptions(ksp as sys::PetscObject, copy))
                 })
