@@ -1,7 +1,26 @@
 //! `ubr-petsc`: options -> scene -> run -> report. See `app::run`.
 
 use mpi::traits::*;
-use ubr_petsc::{app, options, petsc::Petsc};
+use ubr_petsc::options::files::{self, Expanded};
+use ubr_petsc::{app, petsc::Petsc};
+
+/// Rank 0 reads the options files (as PETSc would) and every rank gets
+/// the outcome: the arguments PETSc starts with, or the one-line error.
+fn options_files<C: Communicator>(world: &C) -> Result<Expanded, String> {
+    let root = world.process_at_rank(0);
+    let mut bytes = Vec::new();
+    if world.rank() == 0 {
+        let args: Vec<String> = std::env::args().collect();
+        let env = std::env::var("PETSC_OPTIONS").ok();
+        let outcome = files::expand(&args, env.as_deref(), &files::petscrc_files());
+        bytes = serde_json::to_vec(&outcome).expect("strings serialize");
+    }
+    let mut len = [bytes.len() as u64];
+    root.broadcast_into(&mut len[..]);
+    bytes.resize(len[0] as usize, 0);
+    root.broadcast_into(&mut bytes[..]);
+    serde_json::from_slice(&bytes).expect("rank 0 sent an outcome")
+}
 
 fn main() {
     let Some(universe) = mpi::initialize() else {
@@ -15,18 +34,25 @@ fn main() {
         eprintln!("internal error (bug): {info}");
         mpi::topology::SimpleCommunicator::world().abort(70);
     }));
-    // A missing options file: one line and exit status 2, before PETSc
-    // (which would end in a traceback). Every rank sees the same arguments.
-    let args: Vec<String> = std::env::args().collect();
-    if let Some(msg) = options::unreadable_options_file(&args) {
-        if rank == 0 {
-            eprintln!("error: {msg}");
+    // The options files, expanded before PETSc (which would end a mistake
+    // in one in a traceback, and one that includes itself in a stack
+    // overflow): one line and exit status 2 on every rank.
+    let expanded = match options_files(&world) {
+        Ok(e) => e,
+        Err(msg) => {
+            if rank == 0 {
+                eprintln!("error: {msg}");
+            }
+            drop(universe);
+            std::process::exit(2);
         }
-        drop(universe);
-        std::process::exit(2);
+    };
+    if let Some(env) = &expanded.env {
+        std::env::set_var("PETSC_OPTIONS", env);
     }
+    files::record(expanded.files);
     let code = {
-        let petsc = match Petsc::init(world.as_raw()) {
+        let petsc = match Petsc::init(world.as_raw(), &expanded.args) {
             Ok(p) => p,
             Err(e) => {
                 eprintln!("{e}");

@@ -1,17 +1,26 @@
 //! The program's settings, read from PETSc's options database (command line,
 //! `-options_file`, `PETSC_OPTIONS`). Every option is declared once in
 //! [`declared`] with its typed default and help text (which `-help` prints);
-//! every parse error names the option. [`unused`] names the options that
-//! nothing used.
+//! every parse error names the option. [`files`] expands the options files
+//! before PETSc starts; [`outputs`] checks the output paths, [`solver`]
+//! PETSc's linear-solver options, before any work; [`inert`] names the
+//! options that have no effect in the scene, [`unused`] those that nothing
+//! used.
 
 pub mod declared;
+pub mod files;
+pub mod inert;
+pub mod outputs;
+pub mod solver;
 pub mod unused;
 
 pub use crate::contact::obstacle::Obstacle;
 use crate::error::{bad, Error};
+use crate::petsc;
 use crate::solver::stopping::StopRule;
 pub use declared::print_help;
 use declared::*;
+use mpi::traits::*;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum MeshSource {
@@ -154,8 +163,10 @@ pub struct Settings {
     pub vtk: Option<String>,
     pub plot_contact: Option<String>,
     pub plot_history: Option<String>,
-    /// What the program changed in the user's input, said once on stderr
-    /// (e.g. a contact direction normalised).
+    /// What the program changed in the user's input (`note: ...`, e.g. a
+    /// contact direction normalised) and what in it has no effect
+    /// (`warning: ...`: an option the scene ignores, a mistyped name), each
+    /// said once on stderr.
     pub notes: Vec<String>,
 }
 
@@ -486,30 +497,6 @@ fn reference() -> Result<Option<HertzReference>, Error> {
     }))
 }
 
-/// Output paths are checked before any work: a run that cannot write its
-/// results fails at once, not after the solve.
-fn output_path(opt: &Opt<Given>) -> Result<Option<String>, Error> {
-    let Some(path) = opt.word()? else {
-        return Ok(None);
-    };
-    let p = std::path::Path::new(&path);
-    let dir = p
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(std::path::Path::new("."));
-    if !dir.is_dir() {
-        return bad(format!(
-            "option {}: directory '{}' of '{path}' does not exist",
-            opt.name,
-            dir.display()
-        ));
-    }
-    if p.is_dir() {
-        return bad(format!("option {}: '{path}' is a directory", opt.name));
-    }
-    Ok(Some(path))
-}
-
 fn friction() -> Result<(Friction, f64, Option<TrescaBound>), Error> {
     let friction = match FRICTION.get()? {
         "tresca" => Friction::Tresca,
@@ -568,11 +555,8 @@ impl Settings {
         let ubr = ubr_settings()?;
         let reference = reference()?;
         let contact_center = REFERENCE_CENTER.vector()?;
-        let report = output_path(&REPORT)?;
-        let contact_output = output_path(&CONTACT_OUTPUT)?;
-        let vtk = output_path(&VTK)?;
-        let plot_contact = output_path(&PLOT_CONTACT)?;
-        let plot_history = output_path(&PLOT_HISTORY)?;
+        let ranks = mpi::topology::SimpleCommunicator::world().size() as usize;
+        let out = outputs::Outputs::read(&mesh, files::read(), ranks)?;
         if tresca_bound == Some(TrescaBound::Hertz) && reference.is_none() {
             return bad("option -tresca_bound hertz needs the Hertz reference (-reference hertz -reference_force F -reference_radius R)");
         }
@@ -584,7 +568,20 @@ impl Settings {
                 "option -contact_algorithm {algorithm}: this comparator is frictionless (-friction none)"
             ));
         }
-        Ok(Settings {
+        let solver_read = solver::check(ranks)?;
+        unused::set_solver_options(solver_read.clone());
+        let solver_kind = inert::SolverKind::of(
+            petsc::options::get_string("-pc_type")?
+                .as_deref()
+                .map(str::trim),
+            petsc::options::get_string("-ksp_type")?
+                .as_deref()
+                .map(str::trim),
+            petsc::options::get_string("-pc_factor_mat_solver_type")?
+                .as_deref()
+                .map(str::trim),
+        );
+        let mut settings = Settings {
             mesh,
             young,
             nu,
@@ -604,13 +601,23 @@ impl Settings {
             ssn_max_it,
             reference,
             contact_center,
-            report,
-            contact_output,
-            vtk,
-            plot_contact,
-            plot_history,
+            report: out.report,
+            contact_output: out.contact_output,
+            vtk: out.vtk,
+            plot_contact: out.plot_contact,
+            plot_history: out.plot_history,
             notes,
-        })
+        };
+        // What has no effect here, named now, before any work.
+        let mut given = |name: &str| petsc::options::has_name(name).unwrap_or(false);
+        for (name, why) in inert::inert(&settings, solver_kind, &solver_read, &mut given) {
+            unused::mark_named(&name);
+            settings
+                .notes
+                .push(format!("warning: option {name} has no effect: {why}"));
+        }
+        settings.notes.extend(unused::typos()?);
+        Ok(settings)
     }
 
     /// E* of the Hertz formulas: E/(1-nu^2), or E in plane stress.
@@ -621,49 +628,4 @@ impl Settings {
             self.young / (1.0 - self.nu * self.nu)
         }
     }
-}
-
-/// The options files named by `-options_file` (on the command line, in
-/// `PETSC_OPTIONS`, or in such a file) that cannot be read, as the one-line
-/// message of exit status 2. Checked before PETSc starts, which would
-/// otherwise end in a traceback.
-pub fn unreadable_options_file(args: &[String]) -> Option<String> {
-    let env = std::env::var("PETSC_OPTIONS").unwrap_or_default();
-    let mut queue: Vec<(String, String)> = Vec::new();
-    let scan = |words: Vec<String>, from: &str, queue: &mut Vec<(String, String)>| {
-        for w in words.windows(2) {
-            if w[0] == "-options_file" {
-                queue.push((w[1].clone(), from.to_string()));
-            }
-        }
-    };
-    scan(args.to_vec(), "the command line", &mut queue);
-    scan(
-        env.split_whitespace().map(String::from).collect(),
-        "PETSC_OPTIONS",
-        &mut queue,
-    );
-    let mut seen = Vec::new();
-    while let Some((file, from)) = queue.pop() {
-        if seen.contains(&file) {
-            continue;
-        }
-        match std::fs::read_to_string(&file) {
-            Ok(text) => {
-                let words = text
-                    .lines()
-                    .map(|l| l.split('#').next().unwrap_or(""))
-                    .flat_map(|l| l.split_whitespace().map(String::from))
-                    .collect();
-                scan(words, &file, &mut queue);
-            }
-            Err(e) => {
-                return Some(format!(
-                    "option -options_file: cannot read '{file}' (named in {from}): {e}"
-                ))
-            }
-        }
-        seen.push(file);
-    }
-    None
 }

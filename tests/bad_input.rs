@@ -4,13 +4,9 @@ mod common;
 use common::*;
 use std::time::Duration;
 
-fn expect_bad(name: &str, args: &[&str], needle: &str) {
-    let dir = scratch(name);
-    let rep = dir.join("report.json");
-    let rs = rep.to_str().unwrap().to_string();
-    let mut a = args.to_vec();
-    a.extend_from_slice(&["-report", &rs]);
-    let run = mpirun(2, &a);
+/// Checks a refused run: exit status 2, one `error:` line naming every
+/// needle, no traceback, within seconds.
+fn assert_refused(name: &str, run: &Run, needles: &[&str]) {
     assert_eq!(
         run.status,
         Some(2),
@@ -30,14 +26,56 @@ fn expect_bad(name: &str, args: &[&str], needle: &str) {
         "{name}: expected one error line, got:\n{}",
         run.stderr
     );
-    assert!(
-        ours[0].contains(needle),
-        "{name}: '{}' does not name '{needle}'",
-        ours[0]
-    );
+    for needle in needles {
+        assert!(
+            ours[0].contains(needle),
+            "{name}: '{}' does not name '{needle}'",
+            ours[0]
+        );
+    }
+    for trace in [
+        "PETSC ERROR",
+        "PETSc error",
+        "MPI_ABORT",
+        "panicked",
+        "internal error",
+        "overflowed",
+        "Segmentation",
+    ] {
+        assert!(
+            !run.stderr.contains(trace),
+            "{name}: '{trace}' on stderr:\n{}",
+            run.stderr
+        );
+    }
+    within(Duration::from_secs(20), run);
+}
+
+/// `args` on `ranks` ranks with a report asked for: refused, and no report.
+fn expect_bad_on(ranks: usize, name: &str, args: &[&str], needles: &[&str]) {
+    let dir = scratch(name);
+    let rep = dir.join("report.json");
+    let rs = rep.to_str().unwrap().to_string();
+    let mut a = args.to_vec();
+    a.extend_from_slice(&["-report", &rs]);
+    let run = mpirun(ranks, &a);
+    assert_refused(&format!("{name} (-n {ranks})"), &run, needles);
     assert!(!rep.exists(), "{name}: a report was written");
-    within(Duration::from_secs(20), &run);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn expect_bad(name: &str, args: &[&str], needle: &str) {
+    expect_bad_on(2, name, args, &[needle]);
+}
+
+/// The files of `dir`, sorted.
+fn listing(dir: &std::path::Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
 }
 
 fn hertz<'a>(extra: &[&'a str]) -> Vec<&'a str> {
@@ -227,4 +265,276 @@ fn options_files_leave_nothing_unused() {
             run.stdout
         );
     }
+}
+
+// ----- options files (items 7 and 9 of "Trust at the edges") -----
+
+/// An options file that includes itself, directly or through a cycle of
+/// files: one line naming the cycle, exit 2, on one rank and on two (it was
+/// a stack overflow, exit 139).
+#[test]
+fn options_file_including_itself() {
+    let dir = scratch("selfinclude");
+    let own = dir.join("self");
+    let own_s = own.to_str().unwrap().to_string();
+    std::fs::write(
+        &own,
+        format!("-options_file options/hertz\n-options_file {own_s}\n"),
+    )
+    .unwrap();
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    let (a_s, b_s) = (
+        a.to_str().unwrap().to_string(),
+        b.to_str().unwrap().to_string(),
+    );
+    std::fs::write(&a, format!("-E 2000\n-options_file {b_s}\n")).unwrap();
+    std::fs::write(&b, format!("# b\n-options_file {a_s}\n")).unwrap();
+    let direct = format!("({own_s} -> {own_s})");
+    let cycle = format!("({a_s} -> {b_s} -> {a_s})");
+    for ranks in [1, 2] {
+        expect_bad_on(
+            ranks,
+            "selfinclude-run",
+            &["-options_file", &own_s],
+            &["-options_file", "includes itself", &direct],
+        );
+        expect_bad_on(
+            ranks,
+            "cycle-run",
+            &["-options_file", &a_s],
+            &["includes itself", &cycle],
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A path with a space in an options file: PETSc's files take one word per
+/// value (a traceback before); the line says so and how to quote it.
+#[test]
+fn space_in_an_options_file_value() {
+    let dir = scratch("space");
+    let sub = dir.join("my dir");
+    std::fs::create_dir_all(&sub).unwrap();
+    let mesh = sub.join("m.msh");
+    std::fs::copy(root().join("meshes/hertz_442.msh"), &mesh).unwrap();
+    let file = dir.join("scene");
+    let file_s = file.to_str().unwrap().to_string();
+    let m = mesh.to_str().unwrap();
+    std::fs::write(&file, format!("-options_file options/hertz\n-mesh {m}\n")).unwrap();
+    let quoted = format!("-mesh \"{m}\"");
+    for ranks in [1, 2] {
+        expect_bad_on(
+            ranks,
+            "space-run",
+            &["-options_file", &file_s],
+            &[&file_s, "line 2", "-mesh", &quoted],
+        );
+    }
+    // Quoted as the message says, it runs.
+    std::fs::write(&file, format!("-options_file options/hertz\n{quoted}\n")).unwrap();
+    let run = mpirun(2, &["-options_file", &file_s]);
+    assert_eq!(run.status, Some(0), "{}", run.stderr);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Other lines PETSc would refuse with a traceback, named with their line.
+#[test]
+fn malformed_options_file_lines() {
+    let dir = scratch("malformed");
+    let file = dir.join("scene");
+    let file_s = file.to_str().unwrap().to_string();
+    for (text, needle) in [
+        (
+            "-options_file options/hertz\n-E 2000 -nu 0.3\n",
+            "two options on one line",
+        ),
+        (
+            "-options_file options/hertz\nE 2000\n",
+            "'E' is not an option",
+        ),
+        (
+            "-options_file options/hertz\n-mesh \"a.msh\n",
+            "double quote is not closed",
+        ),
+    ] {
+        std::fs::write(&file, text).unwrap();
+        expect_bad_on(
+            2,
+            "malformed-run",
+            &["-options_file", &file_s],
+            &[&file_s, "line 2", needle],
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// ----- PETSc's solver options (item 9) -----
+
+/// A solver package this PETSc does not have: the option, the value and
+/// what is available, exit 2, on every rank count (an MPI_ABORT with a
+/// PETSc error on each rank before).
+#[test]
+fn solver_package_not_installed() {
+    for ranks in [1, 2] {
+        expect_bad_on(
+            ranks,
+            "pastix",
+            &hertz(&["-pc_factor_mat_solver_type", "pastix"]),
+            &[
+                "option -pc_factor_mat_solver_type",
+                "'pastix'",
+                "not a solver package",
+                "mumps",
+            ],
+        );
+    }
+    // A package that cannot do what is asked on this matrix.
+    expect_bad_on(
+        2,
+        "umfpack",
+        &hertz(&["-pc_type", "lu", "-pc_factor_mat_solver_type", "umfpack"]),
+        &[
+            "option -pc_factor_mat_solver_type",
+            "umfpack does no LU factorization",
+            "2 ranks",
+            "mumps",
+        ],
+    );
+    expect_bad_on(
+        2,
+        "ilu",
+        &hertz(&["-pc_type", "ilu"]),
+        &["-pc_type ilu", "bjacobi"],
+    );
+}
+
+/// Unknown solver names, and values PETSc cannot read, name the option.
+#[test]
+fn petsc_solver_options_are_bad_input() {
+    expect_bad_on(
+        2,
+        "kspfoo",
+        &hertz(&["-ksp_type", "foo"]),
+        &["option -ksp_type", "'foo'", "cg"],
+    );
+    expect_bad_on(
+        1,
+        "pcfoo",
+        &hertz(&["-pc_type", "foo"]),
+        &["option -pc_type", "'foo'", "gamg"],
+    );
+    expect_bad_on(
+        2,
+        "ksprtol",
+        &hertz(&["-ksp_type", "cg", "-pc_type", "gamg", "-ksp_rtol", "abc"]),
+        &["option -ksp_rtol", "abc"],
+    );
+}
+
+// ----- outputs (items 8 and 14) -----
+
+/// Two outputs on one path, or an output on an input: exit 2 before any
+/// work, nothing written, the inputs untouched (the CSV was lost before).
+#[test]
+fn outputs_on_one_path() {
+    let dir = scratch("onepath");
+    let d = dir.to_str().unwrap().to_string();
+    let x = format!("{d}/X.json");
+    let run = mpirun(2, &hertz(&["-report", &x, "-contact_output", &x]));
+    assert_refused(
+        "report=csv",
+        &run,
+        &["-report", "-contact_output", "same file", &x],
+    );
+    assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
+    // The same file by another spelling.
+    let p1 = format!("{d}/p.png");
+    let p2 = format!(
+        "{d}/../{}/./p.png",
+        dir.file_name().unwrap().to_str().unwrap()
+    );
+    let run = mpirun(2, &hertz(&["-plot_contact", &p1, "-plot_history", &p2]));
+    assert_refused(
+        "plots",
+        &run,
+        &["-plot_contact", "-plot_history", "same file"],
+    );
+    assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
+    // An output on the input mesh: a .pvtu piece of rank 1 here.
+    let mesh = format!("{d}/x_1.vtu");
+    std::fs::copy(root().join("meshes/hertz_442.msh"), &mesh).unwrap();
+    let before = std::fs::read(&mesh).unwrap();
+    let pvtu = format!("{d}/x.pvtu");
+    let run = mpirun(2, &hertz_args(&mesh, &["-vtk", &pvtu]));
+    assert_refused(
+        "pvtu-mesh",
+        &run,
+        &["-vtk", "piece of rank 1", "input mesh"],
+    );
+    assert_eq!(std::fs::read(&mesh).unwrap(), before);
+    assert_eq!(listing(&dir), ["x_1.vtu"]);
+    // On one rank there is no piece of rank 1: it runs.
+    let run = mpirun(1, &hertz_args(&mesh, &["-vtk", &pvtu]));
+    assert_eq!(run.status, Some(0), "{}", run.stderr);
+    std::fs::remove_dir_all(&dir).unwrap();
+    std::fs::create_dir_all(&dir).unwrap();
+    // An output on an options file.
+    let scene = format!("{d}/scene.json");
+    std::fs::copy(root().join("options/hertz-paper"), &scene).unwrap();
+    let before = std::fs::read(&scene).unwrap();
+    let run = mpirun(
+        1,
+        &[
+            "-options_file",
+            &scene,
+            "-mesh",
+            "meshes/hertz_442.msh",
+            "-report",
+            &scene,
+        ],
+    );
+    assert_refused(
+        "options-file",
+        &run,
+        &["-report", "options file", "scene.json"],
+    );
+    assert_eq!(std::fs::read(&scene).unwrap(), before);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Outputs of a fixed format must be named so: `-vtk out/x.vtk` wrote
+/// x.pvtu and its pieces before.
+#[test]
+fn output_extensions() {
+    let dir = scratch("extensions");
+    let d = dir.to_str().unwrap().to_string();
+    for (option, file, needles) in [
+        (
+            "-vtk",
+            "x.vtk",
+            &["option -vtk", "x.vtk", ".vtu or .pvtu"][..],
+        ),
+        (
+            "-report",
+            "r.txt",
+            &["option -report", "r.txt", ".json"][..],
+        ),
+        (
+            "-contact_output",
+            "c.json",
+            &["option -contact_output", ".csv"][..],
+        ),
+        (
+            "-plot_contact",
+            "p.svg",
+            &["option -plot_contact", ".png"][..],
+        ),
+        ("-plot_history", "h", &["option -plot_history", ".png"][..]),
+    ] {
+        let path = format!("{d}/{file}");
+        let run = mpirun(2, &hertz(&[option, &path]));
+        assert_refused(option, &run, needles);
+        assert!(listing(&dir).is_empty(), "{option}: {:?}", listing(&dir));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -374,7 +374,11 @@ pub fn print_help() {
     println!("default -ksp_type preonly -pc_type cholesky -pc_factor_mat_solver_type mumps, factorized once.");
     println!("Profiling: -log_view (stages Mesh, Partition, Assembly, Factorization, RChoice, Iterations, Output).");
     println!(
-        "An option that neither ubr-petsc nor PETSc used is named on stderr at the end of the run."
+        "An option that has no effect in the scene is named on stderr when the options are read, one that"
+    );
+    println!("neither ubr-petsc nor PETSc used at the end of the run.");
+    println!(
+        "Options files: one option per line, '#' comments, a value with spaces in double quotes."
     );
     println!("Exit status: 0 converged, 2 bad input or an ill-posed scene (a rigid motion nothing holds), 3 not converged.");
 }

@@ -11,6 +11,40 @@
 use super::declared::ALL;
 use crate::error::Error;
 use crate::petsc::options;
+use std::sync::Mutex;
+
+/// The options already named on stderr (by any check of the run): each is
+/// named once.
+static WARNED: Mutex<Vec<String>> = Mutex::new(Vec::new());
+
+/// Whether `name` was named already; marks it named.
+fn first_time(name: &str) -> bool {
+    let mut w = WARNED.lock().unwrap_or_else(|e| e.into_inner());
+    if w.iter().any(|n| n == name) {
+        return false;
+    }
+    w.push(name.to_string());
+    true
+}
+
+/// The options PETSc's linear solvers read (found when the options are
+/// read, [`super::solver`]).
+static SOLVER_OPTIONS: Mutex<Vec<String>> = Mutex::new(Vec::new());
+
+/// Remembers the options PETSc's linear solvers read.
+pub fn set_solver_options(names: Vec<String>) {
+    *SOLVER_OPTIONS.lock().unwrap_or_else(|e| e.into_inner()) = names;
+}
+
+fn solver_option(name: &str) -> bool {
+    let s = SOLVER_OPTIONS.lock().unwrap_or_else(|e| e.into_inner());
+    s.iter().any(|n| n == name)
+}
+
+/// Marks `name` as named (by another check), so that it is not again.
+pub fn mark_named(name: &str) {
+    first_time(name);
+}
 
 /// PETSc options a user commonly types, for suggestions (the program's own
 /// come from [`ALL`]).
@@ -154,7 +188,7 @@ fn looks_ours(name: &str, used: &[String]) -> bool {
 }
 
 /// Whether `name` is one of the program's options (or of a family).
-fn declared(name: &str) -> bool {
+pub fn declared(name: &str) -> bool {
     ALL.iter()
         .any(|o| o.name() == name || o.prefix().is_some_and(|p| name.starts_with(p)))
 }
@@ -166,6 +200,11 @@ pub fn message(name: &str, used: &[String]) -> String {
             "warning: option {name} was not used: the option it goes with is not given, or another overrides it (-help)"
         );
     }
+    if solver_option(name) {
+        return format!(
+            "warning: option {name} was not used: PETSc's linear solvers know it, but the one of this run did not read it (-help lists what it reads)"
+        );
+    }
     match suggestion(name, used) {
         Some(s) => format!("warning: option {name} was not used; did you mean {s}?"),
         None => format!(
@@ -174,11 +213,70 @@ pub fn message(name: &str, used: &[String]) -> String {
     }
 }
 
-/// The unknown-option check of one run: remembers what it has warned about.
-#[derive(Default)]
-pub struct Unused {
-    warned: Vec<String>,
+/// Prefixes of PETSc's options: read by PETSc after the program's own, so
+/// not judged when the program has read its options.
+const PETSC_PREFIXES: &[&str] = &[
+    "-ksp",
+    "-pc_",
+    "-mat_",
+    "-snes",
+    "-sub_",
+    "-mg_",
+    "-log",
+    "-vec_",
+    "-dm_",
+    "-is_",
+    "-options",
+    "-malloc",
+    "-info",
+    "-viewer",
+    "-draw",
+    "-on_error",
+    "-help",
+    "-version",
+    "-petsc",
+    "-sys_",
+    "-fp_trap",
+    "-no_signal",
+    "-objects",
+    "-memory",
+    "-skip",
+    "-debugger",
+    "-start_in",
+    "-stop_for",
+    "-tao_",
+    "-ts_",
+    "-use_gpu",
+    "-device",
+    "-citations",
+    "-check",
+    "-history",
+    "-display",
+    "-mpi",
+    "-prefix",
+];
+
+/// The warning lines for the options that look like the program's and are
+/// none of them (`-frcition`: the run would be frictionless), once the
+/// program has read its options, before any work; each marked named.
+pub fn typos() -> Result<Vec<String>, Error> {
+    let mut out = Vec::new();
+    for name in options::unused()? {
+        if !declared(&name)
+            && !PETSC_PREFIXES.iter().any(|p| name.starts_with(p))
+            && looks_ours(&name, &[])
+            && first_time(&name)
+        {
+            out.push(message(&name, &[]));
+        }
+    }
+    Ok(out)
 }
+
+/// The unknown-option check of one run (what it has named is shared with
+/// the other checks: each option is named once).
+#[derive(Default)]
+pub struct Unused {}
 
 impl Unused {
     /// Warns (rank 0) about the unused options that look like the
@@ -199,11 +297,8 @@ impl Unused {
     pub fn undeclared(&mut self, root: bool) -> Result<(), Error> {
         let left = options::unused()?;
         for name in left {
-            if !self.warned.contains(&name) && !declared(&name) && looks_ours(&name, &[]) {
-                if root {
-                    eprintln!("{}", message(&name, &[]));
-                }
-                self.warned.push(name);
+            if !declared(&name) && looks_ours(&name, &[]) && first_time(&name) && root {
+                eprintln!("{}", message(&name, &[]));
             }
         }
         Ok(())
@@ -214,16 +309,15 @@ impl Unused {
         let all = options::all_names()?;
         let used: Vec<String> = all.into_iter().filter(|n| !left.contains(n)).collect();
         for name in left {
-            if self.warned.contains(&name)
-                || READ_AT_FINALIZE.contains(&name.as_str())
+            if READ_AT_FINALIZE.contains(&name.as_str())
                 || (only_ours && !looks_ours(&name, &used))
+                || !first_time(&name)
             {
                 continue;
             }
             if root {
                 eprintln!("{}", message(&name, &used));
             }
-            self.warned.push(name);
         }
         Ok(())
     }

@@ -26,7 +26,8 @@ use std::cell::RefCell;
 use std::ffi::{c_char, c_int, c_void, CStr, CString};
 
 thread_local! {
-    static LAST_ERROR: RefCell<Option<String>> = const { RefCell::new(None) };
+    /// PETSc's last error: its message and where it was raised.
+    static LAST_ERROR: RefCell<Option<(String, String)>> = const { RefCell::new(None) };
 }
 
 unsafe extern "C" fn record_error(
@@ -47,21 +48,24 @@ unsafe extern "C" fn record_error(
         }
     };
     if p == sys::PETSC_ERROR_INITIAL {
-        let mut text = s(mess).trim().to_string();
+        // One line: PETSc's messages may hold several.
+        let mut text = s(mess).split_whitespace().collect::<Vec<_>>().join(" ");
         if text.is_empty() {
             let mut generic: *const c_char = std::ptr::null();
             sys::PetscErrorMessage(n, &mut generic, std::ptr::null_mut());
             text = s(generic);
         }
-        let msg = format!(
-            "{} (PETSc error {n} in {}() at {}:{line})",
-            text,
-            s(func),
-            s(file)
-        );
-        LAST_ERROR.with(|e| *e.borrow_mut() = Some(msg));
+        let place = format!("PETSc error {n} in {}() at {}:{line}", s(func), s(file));
+        LAST_ERROR.with(|e| *e.borrow_mut() = Some((text, place)));
     }
     n
+}
+
+/// PETSc's message of a failed call (without where it was raised).
+fn take_error(code: sys::PetscErrorCode) -> (String, String) {
+    LAST_ERROR
+        .with(|e| e.borrow_mut().take())
+        .unwrap_or_else(|| (format!("PETSc error {code}"), String::new()))
 }
 
 /// Turns a PETSc error code into a `Result`.
@@ -69,10 +73,22 @@ pub fn check(code: sys::PetscErrorCode) -> Result<(), Error> {
     if code == 0 {
         return Ok(());
     }
-    let message = LAST_ERROR
-        .with(|e| e.borrow_mut().take())
-        .unwrap_or_else(|| format!("PETSc error {code}"));
+    let (text, place) = take_error(code);
+    let message = if place.is_empty() {
+        text
+    } else {
+        format!("{text} ({place})")
+    };
     Err(Error::Petsc { code, message })
+}
+
+/// Like [`check`], the error being PETSc's message alone (for a message
+/// of ours that says what it means).
+fn check_text(code: sys::PetscErrorCode) -> Result<(), String> {
+    if code == 0 {
+        return Ok(());
+    }
+    Err(take_error(code).0)
 }
 
 /// PETSc's lifetime. Created after MPI (rsmpi) and dropped before it:
@@ -82,11 +98,13 @@ pub struct Petsc {
 }
 
 impl Petsc {
-    /// Initializes PETSc on `comm` with the process's real arguments, so that
-    /// `-options_file`, `-help` and `-log_view` work.
-    pub fn init(comm: sys::MPI_Comm) -> Result<Petsc, Error> {
-        let args: Vec<CString> = std::env::args()
-            .map(|a| CString::new(a).unwrap_or_else(|_| CString::new("?").unwrap()))
+    /// Initializes PETSc on `comm` with the process's arguments (program
+    /// name first; the options files already expanded, see
+    /// [`crate::options::files`]), so that `-help` and `-log_view` work.
+    pub fn init(comm: sys::MPI_Comm, args: &[String]) -> Result<Petsc, Error> {
+        let args: Vec<CString> = args
+            .iter()
+            .map(|a| CString::new(a.as_str()).unwrap_or_else(|_| CString::new("?").unwrap()))
             .collect();
         // PETSc keeps pointers to argv: leak it for the life of the process.
         let mut ptrs: Vec<*mut c_char> = args.into_iter().map(|a| a.into_raw()).collect();
@@ -206,12 +224,21 @@ pub mod options {
     /// The options of the database that nothing has read so far (names with
     /// their leading `-`), leaving out those the program set itself.
     pub fn unused() -> Result<Vec<String>, Error> {
+        let mut out = left_in(std::ptr::null_mut())?;
+        let ours = SET_BY_PROGRAM.with(|s| s.borrow().clone());
+        out.retain(|name| !ours.contains(name));
+        Ok(out)
+    }
+
+    /// The options of database `db` (null: the global one) that nothing
+    /// has read (names with their leading `-`).
+    pub(super) fn left_in(db: sys::PetscOptions) -> Result<Vec<String>, Error> {
         let mut n: sys::PetscInt = 0;
         let mut names: *mut *mut c_char = std::ptr::null_mut();
         let mut values: *mut *mut c_char = std::ptr::null_mut();
         unsafe {
             check(sys::PetscOptionsLeftGet(
-                std::ptr::null_mut(),
+                db,
                 &mut n,
                 &mut names,
                 &mut values,
@@ -227,14 +254,36 @@ pub mod options {
         }
         unsafe {
             check(sys::PetscOptionsLeftRestore(
-                std::ptr::null_mut(),
+                db,
                 &mut n,
                 &mut names,
                 &mut values,
             ))?;
         }
-        let ours = SET_BY_PROGRAM.with(|s| s.borrow().clone());
-        out.retain(|name| !ours.contains(name));
+        Ok(out)
+    }
+
+    /// Every option of the database with its value (None: given without
+    /// one), without marking any as used. (A value with a space reads as
+    /// its first word: PETSc's listing does not quote it.)
+    pub fn all_pairs() -> Result<Vec<(String, Option<String>)>, Error> {
+        let mut ptr: *mut c_char = std::ptr::null_mut();
+        unsafe {
+            check(sys::PetscOptionsGetAll(std::ptr::null_mut(), &mut ptr))?;
+        }
+        let all = unsafe { CStr::from_ptr(ptr).to_string_lossy().into_owned() };
+        unsafe {
+            sys::ubr_free(ptr as *mut c_void);
+        }
+        let words: Vec<&str> = all.split_whitespace().collect();
+        let mut out: Vec<(String, Option<String>)> = Vec::new();
+        for w in words {
+            if crate::options::files::is_key(w) {
+                out.push((w.to_string(), None));
+            } else if let Some((_, v @ None)) = out.last_mut() {
+                *v = Some(w.to_string());
+            }
+        }
         Ok(out)
     }
 
@@ -253,6 +302,188 @@ pub mod options {
             .filter(|t| t.starts_with('-') && t.len() > 1 && t.parse::<f64>().is_err())
             .map(|t| t.to_string())
             .collect())
+    }
+}
+
+/// PETSc's registries of linear solvers, asked before any work so that a
+/// wrong name in the options is bad input (`options::solver`), not an error
+/// in the middle of the set-up.
+pub mod registry {
+    use super::*;
+
+    /// How a factorization is asked for (`-pc_type lu|cholesky|ilu|icc`).
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub enum Factor {
+        Lu,
+        Cholesky,
+        Ilu,
+        Icc,
+    }
+
+    impl Factor {
+        fn raw(self) -> sys::MatFactorType {
+            match self {
+                Factor::Lu => sys::MAT_FACTOR_LU,
+                Factor::Cholesky => sys::MAT_FACTOR_CHOLESKY,
+                Factor::Ilu => sys::MAT_FACTOR_ILU,
+                Factor::Icc => sys::MAT_FACTOR_ICC,
+            }
+        }
+    }
+
+    /// The solver packages PETSc 3.18 knows by name (`MATSOLVER*` of petscmat.h).
+    const PACKAGES: &[&str] = &[
+        "mumps",
+        "superlu",
+        "superlu_dist",
+        "strumpack",
+        "umfpack",
+        "cholmod",
+        "klu",
+        "spqr",
+        "mkl_pardiso",
+        "mkl_cpardiso",
+        "pastix",
+        "petsc",
+        "elemental",
+        "sparseelemental",
+        "scalapack",
+        "essl",
+        "lusol",
+        "matlab",
+        "bas",
+        "cusparse",
+        "cusparseband",
+        "cuda",
+        "hipsparse",
+        "hipsparseband",
+        "hip",
+        "kokkos",
+        "kokkosdevice",
+    ];
+
+    fn names(list: sys::PetscFunctionList) -> Result<Vec<String>, Error> {
+        let mut array: *mut *const c_char = std::ptr::null_mut();
+        let mut n: c_int = 0;
+        let mut out = Vec::new();
+        unsafe {
+            check(sys::PetscFunctionListGet(list, &mut array, &mut n))?;
+            for i in 0..n.max(0) as usize {
+                let p = *array.add(i);
+                if !p.is_null() {
+                    out.push(CStr::from_ptr(p).to_string_lossy().into_owned());
+                }
+            }
+            sys::ubr_free(array as *mut c_void);
+        }
+        out.sort();
+        out.dedup();
+        Ok(out)
+    }
+
+    /// The Krylov methods of this PETSc (`-ksp_type`).
+    pub fn ksp_types() -> Result<Vec<String>, Error> {
+        unsafe {
+            check(sys::KSPInitializePackage())?;
+            names(sys::KSPList)
+        }
+    }
+
+    /// The preconditioners of this PETSc (`-pc_type`).
+    pub fn pc_types() -> Result<Vec<String>, Error> {
+        unsafe {
+            check(sys::PCInitializePackage())?;
+            names(sys::PCList)
+        }
+    }
+
+    /// Whether `package` (None: any) is a solver package of this PETSc
+    /// (None if not) that factorizes a matrix of type `mat_type`
+    /// (`seqaij`, `mpiaij`) as `factor`.
+    pub fn factorizes(
+        package: Option<&str>,
+        mat_type: &str,
+        factor: Factor,
+    ) -> Result<Option<bool>, Error> {
+        let pkg = package.map(|p| CString::new(p).unwrap_or_default());
+        let mt = CString::new(mat_type).expect("no NUL");
+        let (mut found, mut found_mat) = (sys::PETSC_FALSE, sys::PETSC_FALSE);
+        let mut create: sys::MatSolverFunction = None;
+        unsafe {
+            check(sys::MatInitializePackage())?;
+            check(sys::MatSolverTypeGet(
+                pkg.as_ref().map_or(std::ptr::null(), |p| p.as_ptr()),
+                mt.as_ptr(),
+                factor.raw(),
+                &mut found,
+                &mut found_mat,
+                &mut create,
+            ))?;
+        }
+        if package.is_some() && found == sys::PETSC_FALSE {
+            return Ok(None);
+        }
+        Ok(Some(create.is_some()))
+    }
+
+    /// The packages of this PETSc that factorize `mat_type` as `factor`.
+    pub fn packages_for(mat_type: &str, factor: Factor) -> Result<Vec<&'static str>, Error> {
+        let mut out = Vec::new();
+        for p in PACKAGES {
+            if factorizes(Some(p), mat_type, factor)? == Some(true) {
+                out.push(*p);
+            }
+        }
+        Ok(out)
+    }
+
+    /// Reads the linear solver's options (`-ksp_*`, `-pc_*`) into a solver
+    /// of this rank alone, as the run's solver will: no communication, so
+    /// every rank ends alike. It reads a copy of the options database, so
+    /// that an option only it read is still reported as unused at the end.
+    /// Returns the options it read; `Err`: PETSc's message.
+    pub fn read_solver_options() -> Result<Vec<String>, String> {
+        let all = unsafe {
+            let mut ptr: *mut c_char = std::ptr::null_mut();
+            check_text(sys::PetscOptionsGetAll(std::ptr::null_mut(), &mut ptr))?;
+            let all = CStr::from_ptr(ptr).to_owned();
+            sys::ubr_free(ptr as *mut c_void);
+            all
+        };
+        unsafe {
+            let mut copy: sys::PetscOptions = std::ptr::null_mut();
+            check_text(sys::PetscOptionsCreate(&mut copy))?;
+            let mut ksp: sys::KSP = std::ptr::null_mut();
+            if sys::PetscOptionsInsertString(copy, all.as_ptr()) != 0 {
+                // Not a copy to judge by (PETSc's listing does not quote
+                // values): the run's solver will read the options itself.
+                take_error(0);
+                sys::PetscOptionsDestroy(&mut copy);
+                return Ok(Vec::new());
+            }
+            let read = check_text(sys::KSPCreate(comm_self(), &mut ksp))
+                .and_then(|()| {
+                    check_text(sys::PetscObjectSetOptions(ksp as sys::PetscObject, copy))
+                })
+                .and_then(|()| check_text(sys::KSPSetFromOptions(ksp)));
+            if !ksp.is_null() {
+                sys::KSPDestroy(&mut ksp);
+            }
+            let used = read.and_then(|()| {
+                let left = options::left_in(copy).map_err(|e| e.to_string())?;
+                let names = all.to_string_lossy();
+                let mut used: Vec<String> = names
+                    .split_whitespace()
+                    .filter(|w| crate::options::files::is_key(w))
+                    .filter(|w| !left.iter().any(|l| l == w))
+                    .map(String::from)
+                    .collect();
+                used.dedup();
+                Ok(used)
+            });
+            sys::PetscOptionsDestroy(&mut copy);
+            used
+        }
     }
 }
 

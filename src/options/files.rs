@@ -1,0 +1,526 @@
+//! Options files, read by the program before PETSc starts: every
+//! `-options_file FILE` of the command line (and of `PETSC_OPTIONS`, and of
+//! such a file) is replaced in place by the options the file holds, so that
+//! PETSc sees the same options in the same order (a later option still wins)
+//! and every mistake in a file is ours to name in one line, with its file and
+//! line, before any work:
+//!
+//! - a file that includes itself, directly or through others (PETSc would
+//!   recurse until the stack overflows);
+//! - a file that cannot be read;
+//! - a line PETSc would refuse: a value with a space that is not in double
+//!   quotes (PETSc's files know double quotes: `-mesh "my dir/m.msh"`), two
+//!   options on a line, a first word that is not an option.
+//!
+//! A UTF-8 byte-order mark (which editors on Windows write) is skipped.
+//! Read as PETSc reads them (`PetscOptionsInsertFilePetsc` of 3.18): `#`
+//! starts a comment, a token is a word or a double-quoted string, a line is
+//! `-name [value]` or `alias -new -old`. A file PETSc must read itself (YAML,
+//! a name with `${...}` for PETSc to substitute, a file with `alias` lines)
+//! is left in place for PETSc, its nested files still checked for cycles.
+//!
+//! Rank 0 reads the files (as PETSc does) and `main` broadcasts the outcome.
+
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// What PETSc starts with.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Expanded {
+    /// The command line, every options file expanded in place.
+    pub args: Vec<String>,
+    /// The new value of `PETSC_OPTIONS` (None: as it is).
+    pub env: Option<String>,
+    /// Every options file read, as named.
+    pub files: Vec<String>,
+}
+
+static READ: OnceLock<Vec<String>> = OnceLock::new();
+
+/// Remembers the options files of the run (for the output checks: no
+/// output may overwrite one).
+pub fn record(files: Vec<String>) {
+    let _ = READ.set(files);
+}
+
+/// The options files of the run, as named (empty before [`record`]).
+pub fn read() -> &'static [String] {
+    READ.get().map(|v| v.as_slice()).unwrap_or(&[])
+}
+
+/// Expands the options files of `args` (the process's arguments, program
+/// name first) and of `env` (`PETSC_OPTIONS`), and checks the files PETSc
+/// reads by itself (`petscrc`: `~/.petscrc`, `.petscrc`, `petscrc`, unless
+/// `-skip_petscrc`). The error is the one-line message of exit status 2.
+pub fn expand(args: &[String], env: Option<&str>, petscrc: &[PathBuf]) -> Result<Expanded, String> {
+    let mut w = Walker::default();
+    let mut out = Vec::with_capacity(args.len());
+    out.extend(args.first().cloned());
+    w.words(&args[args.len().min(1)..], "the command line", &mut out)?;
+    let env = match env {
+        Some(e) if tokens(e).iter().any(|t| is_options_file(t)) => {
+            let mut words = Vec::new();
+            w.words(&tokens(e), "PETSC_OPTIONS", &mut words)?;
+            Some(
+                words
+                    .iter()
+                    .map(|t| {
+                        if t.is_empty() || t.contains(' ') {
+                            format!("\"{t}\"")
+                        } else {
+                            t.clone()
+                        }
+                    })
+                    .collect::<Vec<_>>()
+                    .join(" "),
+            )
+        }
+        _ => None,
+    };
+    if !args.iter().any(|a| a.eq_ignore_ascii_case("-skip_petscrc")) {
+        for f in petscrc.iter().filter(|f| f.is_file()) {
+            let name = f.display().to_string();
+            w.file(&name, "PETSc's start-up files", &mut Vec::new(), true)?;
+        }
+    }
+    Ok(Expanded {
+        args: out,
+        env,
+        files: w.files,
+    })
+}
+
+/// The files PETSc reads at start-up by itself.
+pub fn petscrc_files() -> Vec<PathBuf> {
+    let mut v = Vec::new();
+    if let Some(home) = std::env::var_os("HOME") {
+        v.push(Path::new(&home).join(".petscrc"));
+    }
+    v.push(PathBuf::from(".petscrc"));
+    v.push(PathBuf::from("petscrc"));
+    v
+}
+
+fn is_options_file(t: &str) -> bool {
+    t.eq_ignore_ascii_case("-options_file")
+}
+
+/// PETSc's `PetscOptionsValidKey`: `-` then a letter, and not a number
+/// (`-inf`, `-nan`).
+pub fn is_key(s: &str) -> bool {
+    let k = match s.strip_prefix("--") {
+        Some(rest) => rest,
+        None => match s.strip_prefix('-') {
+            Some(rest) => rest,
+            None => return false,
+        },
+    };
+    if !k.starts_with(|c: char| c.is_ascii_alphabetic()) {
+        return false;
+    }
+    let lower = k.to_ascii_lowercase();
+    for number in ["infinity", "inf", "nan"] {
+        if let Some(after) = lower.strip_prefix(number) {
+            return after.starts_with(|c: char| c == '_' || c.is_ascii_alphanumeric());
+        }
+    }
+    true
+}
+
+/// A line split as PETSc's `PetscTokenFind` splits it: on spaces; a token
+/// that starts with a double quote runs to the next one (quotes removed).
+/// `Err` on a quote left open.
+fn split(line: &str) -> Result<Vec<String>, ()> {
+    let mut out = Vec::new();
+    let mut rest = line.trim_start_matches(' ');
+    while !rest.is_empty() {
+        if let Some(q) = rest.strip_prefix('"') {
+            let end = q.find('"').ok_or(())?;
+            out.push(q[..end].to_string());
+            rest = &q[end + 1..];
+        } else {
+            let end = rest.find(' ').unwrap_or(rest.len());
+            out.push(rest[..end].to_string());
+            rest = &rest[end..];
+        }
+        rest = rest.trim_start_matches(' ');
+    }
+    Ok(out)
+}
+
+/// [`split`] for `PETSC_OPTIONS` (an open quote runs to the end, as in PETSc).
+fn tokens(s: &str) -> Vec<String> {
+    split(s).unwrap_or_else(|()| {
+        let (head, tail) = s.rsplit_once('"').unwrap_or((s, ""));
+        let mut v = split(head).unwrap_or_default();
+        v.push(tail.to_string());
+        v
+    })
+}
+
+/// One line of an options file.
+#[derive(Debug, PartialEq)]
+enum Line {
+    Option { key: String, value: Option<String> },
+    Alias,
+}
+
+/// The options of a file's text, with their line numbers; `Err` names the
+/// line. A UTF-8 byte-order mark is skipped.
+fn parse(bytes: &[u8], file: &str) -> Result<(Vec<(usize, Line)>, bool), String> {
+    if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
+        return Err(format!(
+            "options file '{file}' is UTF-16 text: save it as UTF-8 (or ASCII)"
+        ));
+    }
+    let bom = bytes.starts_with(&[0xEF, 0xBB, 0xBF]);
+    let bytes = if bom { &bytes[3..] } else { bytes };
+    let mut out = Vec::new();
+    for (i, raw) in bytes.split(|&b| b == b'\n').enumerate() {
+        let n = i + 1;
+        let raw = match raw.iter().position(|&b| b == b'#') {
+            Some(p) => &raw[..p],
+            None => raw,
+        };
+        let Ok(text) = std::str::from_utf8(raw) else {
+            return Err(format!("options file '{file}' line {n}: not UTF-8 text"));
+        };
+        let text = text.replace(['\t', '\r'], " ");
+        let Ok(t) = split(&text) else {
+            return Err(format!(
+                "options file '{file}' line {n}: a double quote is not closed: {}",
+                text.trim()
+            ));
+        };
+        let Some(first) = t.first() else {
+            continue;
+        };
+        if first.starts_with('-') {
+            if !is_key(first) {
+                return Err(format!(
+                    "options file '{file}' line {n}: '{first}' is not an option name (a letter follows the '-')"
+                ));
+            }
+            if let Some(second) = t[1..].iter().find(|s| is_key(s)) {
+                return Err(format!(
+                    "options file '{file}' line {n}: two options on one line ({first} {second}): PETSc takes one option per line"
+                ));
+            }
+            if t.len() > 2 {
+                let value = text
+                    .trim()
+                    .strip_prefix(first.as_str())
+                    .unwrap_or("")
+                    .trim();
+                return Err(format!(
+                    "options file '{file}' line {n}: the value of {first} has a space ('{value}' reads as {} words); PETSc's options files take one word per value: write {first} \"{value}\"",
+                    t.len() - 1
+                ));
+            }
+            out.push((
+                n,
+                Line::Option {
+                    key: first.clone(),
+                    value: t.get(1).cloned(),
+                },
+            ));
+        } else if first.eq_ignore_ascii_case("alias") {
+            if t.len() != 3 || !is_key(&t[1]) || !is_key(&t[2]) {
+                return Err(format!(
+                    "options file '{file}' line {n}: an alias line is 'alias -newname -oldname'"
+                ));
+            }
+            out.push((n, Line::Alias));
+        } else {
+            return Err(format!(
+                "options file '{file}' line {n}: '{first}' is not an option (an option starts with '-', a comment with '#')"
+            ));
+        }
+    }
+    Ok((out, bom))
+}
+
+/// Whether PETSc reads `name` as YAML (its extension, a `:yaml` suffix, or
+/// its first bytes).
+fn yaml(name: &str, bytes: &[u8]) -> bool {
+    let lower = name.to_ascii_lowercase();
+    lower.ends_with(".yml")
+        || lower.ends_with(".yaml")
+        || lower.ends_with(":yaml")
+        || bytes.starts_with(b"%YAML ")
+        || bytes.starts_with(b"---")
+}
+
+/// The expansion under way: the files open (for cycles) and those read.
+#[derive(Default)]
+struct Walker {
+    /// (canonical path, name as written) of the files being expanded.
+    stack: Vec<(PathBuf, String)>,
+    files: Vec<String>,
+}
+
+impl Walker {
+    /// Copies `words` (a command line or `PETSC_OPTIONS`) into `out`,
+    /// expanding `-options_file FILE` in place.
+    fn words(&mut self, words: &[String], from: &str, out: &mut Vec<String>) -> Result<(), String> {
+        let mut i = 0;
+        while i < words.len() {
+            if is_options_file(&words[i]) {
+                match words
+                    .get(i + 1)
+                    .filter(|f| !f.starts_with('-') && !f.is_empty())
+                {
+                    Some(f) => self.file(f, from, out, false)?,
+                    None => {
+                        return Err(format!(
+                            "option -options_file (in {from}) needs a file name"
+                        ))
+                    }
+                }
+                i += 2;
+            } else {
+                out.push(words[i].clone());
+                i += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// Appends the options of file `name` to `out` (or `-options_file name`
+    /// where PETSc must read it itself). `check_only`: a file PETSc reads
+    /// itself whatever it holds (petscrc).
+    fn file(
+        &mut self,
+        name: &str,
+        from: &str,
+        out: &mut Vec<String>,
+        check_only: bool,
+    ) -> Result<(), String> {
+        let keep = |out: &mut Vec<String>| {
+            if !check_only {
+                out.push("-options_file".into());
+                out.push(name.into());
+            }
+        };
+        if name.contains("${") {
+            // PETSc substitutes ${PETSC_DIR}, ${HOSTNAME}, ... in the name.
+            keep(out);
+            return Ok(());
+        }
+        let path = name.strip_suffix(":yaml").unwrap_or(name);
+        let cannot = |e: std::io::Error| {
+            format!("option -options_file: cannot read '{name}' (named in {from}): {e}")
+        };
+        let canonical = std::fs::canonicalize(path).map_err(cannot)?;
+        if let Some(at) = self.stack.iter().position(|(c, _)| *c == canonical) {
+            let mut chain: Vec<&str> = self.stack[at..].iter().map(|(_, n)| n.as_str()).collect();
+            chain.push(name);
+            return Err(format!(
+                "option -options_file: options file '{name}' includes itself ({})",
+                chain.join(" -> ")
+            ));
+        }
+        if canonical.is_dir() {
+            return Err(format!(
+                "option -options_file: '{name}' (named in {from}) is a directory"
+            ));
+        }
+        let bytes = std::fs::read(path).map_err(cannot)?;
+        self.files.push(path.to_string());
+        if yaml(name, &bytes) {
+            keep(out);
+            return Ok(());
+        }
+        let (lines, bom) = parse(&bytes, name)?;
+        let alias = lines.iter().any(|(_, l)| *l == Line::Alias);
+        let petsc_reads = check_only || alias;
+        if petsc_reads && bom {
+            return Err(format!(
+                "options file '{name}' starts with a UTF-8 byte-order mark, which PETSc cannot read{}: save it without (as plain UTF-8)",
+                if alias { " in a file with alias lines" } else { "" }
+            ));
+        }
+        if alias && !check_only {
+            keep(out);
+        }
+        self.stack.push((canonical, name.to_string()));
+        let mut scratch = Vec::new();
+        let sink = if petsc_reads { &mut scratch } else { out };
+        for (n, line) in lines {
+            let Line::Option { key, value } = line else {
+                continue;
+            };
+            if is_options_file(&key) {
+                match value {
+                    Some(f) if !f.is_empty() => {
+                        self.file(&f, &format!("'{name}' line {n}"), sink, petsc_reads)?
+                    }
+                    _ => {
+                        return Err(format!(
+                            "options file '{name}' line {n}: -options_file needs a file name"
+                        ))
+                    }
+                }
+            } else {
+                sink.push(key);
+                sink.extend(value);
+            }
+        }
+        self.stack.pop();
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn s(v: &[&str]) -> Vec<String> {
+        v.iter().map(|x| x.to_string()).collect()
+    }
+
+    fn dir(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("ubr-files-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[test]
+    fn keys_as_petsc_reads_them() {
+        assert!(is_key("-mesh"));
+        assert!(is_key("--mesh"));
+        assert!(is_key("-info"));
+        assert!(is_key("-inf_x"));
+        assert!(!is_key("-1,0"));
+        assert!(!is_key("-0.5"));
+        assert!(!is_key("-inf"));
+        assert!(!is_key("-NaN"));
+        assert!(!is_key("mesh"));
+        assert!(!is_key("-"));
+    }
+
+    #[test]
+    fn lines_split_on_spaces_and_double_quotes() {
+        assert_eq!(split("  -mesh  a.msh ").unwrap(), s(&["-mesh", "a.msh"]));
+        assert_eq!(
+            split("-mesh \"my dir/m.msh\"").unwrap(),
+            s(&["-mesh", "my dir/m.msh"])
+        );
+        assert!(split("-mesh \"my dir").is_err());
+    }
+
+    #[test]
+    fn files_expand_in_place_in_order() {
+        let d = dir("expand");
+        let a = d.join("a");
+        let b = d.join("b");
+        std::fs::write(&b, "-E 1\n-nu 0.3 # comment\n").unwrap();
+        std::fs::write(
+            &a,
+            format!(
+                "\u{feff}# scene\n-options_file {}\n-mesh \"x y.msh\"\n\t-ubr_monitor\r\n",
+                b.display()
+            ),
+        )
+        .unwrap();
+        let args = s(&[
+            "prog",
+            "-E",
+            "5",
+            "-options_file",
+            a.to_str().unwrap(),
+            "-nu",
+            "0.2",
+        ]);
+        let e = expand(&args, None, &[]).unwrap();
+        assert_eq!(
+            e.args,
+            s(&[
+                "prog",
+                "-E",
+                "5",
+                "-E",
+                "1",
+                "-nu",
+                "0.3",
+                "-mesh",
+                "x y.msh",
+                "-ubr_monitor",
+                "-nu",
+                "0.2"
+            ])
+        );
+        assert_eq!(e.files.len(), 2);
+        assert_eq!(e.env, None);
+        let e = expand(
+            &s(&["prog"]),
+            Some(&format!("-options_file {} -x \"a b\"", b.display())),
+            &[],
+        )
+        .unwrap();
+        assert_eq!(e.env.as_deref(), Some("-E 1 -nu 0.3 -x \"a b\""));
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    #[test]
+    fn cycles_are_named() {
+        let d = dir("cycle");
+        let a = d.join("a");
+        let b = d.join("b");
+        std::fs::write(&a, format!("-options_file {}\n", b.display())).unwrap();
+        std::fs::write(&b, format!("-options_file {}\n", a.display())).unwrap();
+        let e = expand(
+            &s(&["prog", "-options_file", a.to_str().unwrap()]),
+            None,
+            &[],
+        )
+        .unwrap_err();
+        assert!(e.contains("includes itself"), "{e}");
+        assert!(
+            e.contains(&format!(
+                "{} -> {} -> {}",
+                a.display(),
+                b.display(),
+                a.display()
+            )),
+            "{e}"
+        );
+        // The same file twice, not nested, is no cycle.
+        std::fs::write(&b, "-E 1\n").unwrap();
+        std::fs::write(
+            &a,
+            format!("-options_file {0}\n-options_file {0}\n", b.display()),
+        )
+        .unwrap();
+        let e = expand(
+            &s(&["prog", "-options_file", a.to_str().unwrap()]),
+            None,
+            &[],
+        )
+        .unwrap();
+        assert_eq!(e.args, s(&["prog", "-E", "1", "-E", "1"]));
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    #[test]
+    fn bad_lines_are_named() {
+        let err = |text: &str| parse(text.as_bytes(), "f").unwrap_err();
+        let e = err("-E 1\n-mesh /tmp/my dir/m.msh\n");
+        assert!(
+            e.contains("line 2") && e.contains("-mesh \"/tmp/my dir/m.msh\""),
+            "{e}"
+        );
+        assert!(err("-E -nu").contains("two options"));
+        assert!(err("-E 1 -nu 0.3").contains("two options on one line (-E -nu)"));
+        assert!(err("E 1").contains("'E' is not an option"));
+        assert!(err("-1x 3").contains("not an option name"));
+        assert!(parse(&[0xFF, 0xFE, b'-'], "f")
+            .unwrap_err()
+            .contains("UTF-16"));
+        let (lines, bom) = parse("\u{feff}-E 1\nalias -a -b\n".as_bytes(), "f").unwrap();
+        assert!(bom);
+        assert_eq!(lines.len(), 2);
+    }
+}

@@ -1,0 +1,127 @@
+//! PETSc's linear-solver options, checked with the program's own before any
+//! work: a Krylov method, preconditioner or solver package this PETSc does
+//! not have, or a value PETSc cannot read (`-ksp_rtol abc`), is bad input
+//! (exit status 2, one line naming the option), not a PETSc error in the
+//! middle of the set-up on every rank. Every rank holds the same options and
+//! asks its own PETSc, with no communication: the outcome is collective.
+
+use super::unused::declared;
+use crate::error::{bad, Error};
+use crate::petsc::options;
+use crate::petsc::registry::{self, Factor};
+
+/// The value of a PETSc option, trimmed; an error when given empty.
+fn word(name: &str) -> Result<Option<String>, Error> {
+    match options::get_string(name)? {
+        Some(s) if s.trim().is_empty() => bad(format!("option {name} needs a value")),
+        other => Ok(other.map(|s| s.trim().to_string())),
+    }
+}
+
+/// Checks `-ksp_type`, `-pc_type`, `-pc_factor_mat_solver_type` against
+/// this PETSc (the matrix distributed over `ranks` ranks), then has PETSc
+/// read every linear-solver option as the run's solver will. Returns the
+/// options PETSc's solver reads.
+pub fn check(ranks: usize) -> Result<Vec<String>, Error> {
+    if options::has_name("-help")? {
+        // PETSc would print its solver options twice.
+        return Ok(Vec::new());
+    }
+    if let Some(k) = word("-ksp_type")? {
+        known("-ksp_type", &k, &registry::ksp_types()?, "Krylov method")?;
+    }
+    let pc = word("-pc_type")?;
+    if let Some(p) = &pc {
+        known("-pc_type", p, &registry::pc_types()?, "preconditioner")?;
+    }
+    factorization(pc.as_deref(), ranks)?;
+    registry::read_solver_options().map_err(|m| Error::BadInput(petsc_message(&m)))
+}
+
+fn known(option: &str, value: &str, types: &[String], what: &str) -> Result<(), Error> {
+    if types.iter().any(|t| t == value) {
+        return Ok(());
+    }
+    bad(format!(
+        "option {option}: '{value}' is not a {what} of this PETSc (it has: {})",
+        types.join(", ")
+    ))
+}
+
+/// A factorization (`-pc_type lu|cholesky|ilu|icc`, Cholesky by default)
+/// needs a solver package that does it for this matrix.
+fn factorization(pc: Option<&str>, ranks: usize) -> Result<(), Error> {
+    let (factor, kind, pc_text) = match pc {
+        None => (
+            Factor::Cholesky,
+            "Cholesky",
+            "-pc_type cholesky (the default)",
+        ),
+        Some("cholesky") => (Factor::Cholesky, "Cholesky", "-pc_type cholesky"),
+        Some("lu") => (Factor::Lu, "LU", "-pc_type lu"),
+        Some("ilu") => (Factor::Ilu, "incomplete LU", "-pc_type ilu"),
+        Some("icc") => (Factor::Icc, "incomplete Cholesky", "-pc_type icc"),
+        Some(_) => return Ok(()),
+    };
+    let package = word("-pc_factor_mat_solver_type")?;
+    if package.is_none() && matches!(factor, Factor::Lu | Factor::Cholesky) {
+        // The program's default, MUMPS.
+        return Ok(());
+    }
+    let mat = if ranks > 1 { "mpiaij" } else { "seqaij" };
+    let found = registry::factorizes(package.as_deref(), mat, factor)?;
+    if found == Some(true) {
+        return Ok(());
+    }
+    let matrix = if ranks > 1 {
+        format!("a matrix distributed over {ranks} ranks ({mat})")
+    } else {
+        format!("a matrix on one rank ({mat})")
+    };
+    let available = registry::packages_for(mat, factor)?;
+    let available = if available.is_empty() {
+        "none".to_string()
+    } else {
+        available.join(", ")
+    };
+    match (package, found) {
+        (Some(p), None) => bad(format!(
+            "option -pc_factor_mat_solver_type: '{p}' is not a solver package of this PETSc (not installed, or misspelt); for {pc_text} on {matrix} it has: {available}"
+        )),
+        (Some(p), _) => bad(format!(
+            "option -pc_factor_mat_solver_type: {p} does no {kind} factorization of {matrix}; for {pc_text} this PETSc has: {available}"
+        )),
+        (None, _) => bad(format!(
+            "option {pc_text}: this PETSc has no {kind} factorization of {matrix}{}",
+            if ranks > 1 {
+                format!("; on several ranks, -pc_type bjacobi -sub_pc_type {} factorizes each rank's block", pc.unwrap_or("ilu"))
+            } else {
+                String::new()
+            }
+        )),
+    }
+}
+
+/// PETSc's message of a linear-solver option it could not read, naming the
+/// option when one PETSc option (not one of the program's) has a value the
+/// message quotes.
+fn petsc_message(m: &str) -> String {
+    let words: Vec<&str> = m
+        .split(|c: char| c.is_whitespace() || "'\"(),;:".contains(c))
+        .filter(|w| !w.is_empty())
+        .collect();
+    let named: Vec<String> = options::all_pairs()
+        .unwrap_or_default()
+        .into_iter()
+        .filter(|(n, v)| {
+            !declared(n)
+                && v.as_deref()
+                    .is_some_and(|v| !v.is_empty() && words.contains(&v))
+        })
+        .map(|(n, _)| n)
+        .collect();
+    match named.as_slice() {
+        [one] => format!("option {one}: {m} (PETSc, reading the linear solver's options)"),
+        _ => format!("the linear solver's options: {m} (PETSc)"),
+    }
+}

@@ -1,0 +1,177 @@
+//! Options that change nothing are named, and options files are read as a
+//! user expects ("Trust at the edges", items 9 and 12): a UTF-8 byte-order
+//! mark is skipped; an option the scene ignores (`-friction_coefficient`
+//! on a frictionless contact) and a mistyped one (`-frcition`) are named on
+//! stderr, once, and the run goes on (exit status 0).
+mod common;
+use common::*;
+
+fn warnings(run: &Run) -> Vec<&str> {
+    run.stderr
+        .lines()
+        .filter(|l| l.starts_with("warning:"))
+        .collect()
+}
+
+fn hertz442(extra: &[&str]) -> Run {
+    let mut a = vec![
+        "-options_file",
+        "options/hertz",
+        "-mesh",
+        "meshes/hertz_442.msh",
+    ];
+    a.extend_from_slice(extra);
+    mpirun(2, &a)
+}
+
+/// The run exits 0 and names `option` once, in a line that holds `why`.
+fn named_once(run: &Run, option: &str, why: &str) {
+    assert_eq!(run.status, Some(0), "{}", run.stderr);
+    let lines: Vec<&str> = warnings(run)
+        .into_iter()
+        .filter(|l| l.contains(&format!("option {option} ")))
+        .collect();
+    assert_eq!(lines.len(), 1, "{option}: {}", run.stderr);
+    assert!(lines[0].contains(why), "{option}: {}", lines[0]);
+}
+
+fn not_named(run: &Run, option: &str) {
+    assert!(
+        !warnings(run)
+            .iter()
+            .any(|l| l.contains(&format!("option {option} "))),
+        "{option}: {}",
+        run.stderr
+    );
+}
+
+#[test]
+fn friction_options_on_a_frictionless_contact() {
+    let why = "has no effect: the contact is frictionless (-friction none)";
+    named_once(
+        &hertz442(&["-friction_coefficient", "0.5"]),
+        "-friction_coefficient",
+        why,
+    );
+    named_once(
+        &hertz442(&["-friction", "none", "-friction_coefficient", "0.5"]),
+        "-friction_coefficient",
+        why,
+    );
+    named_once(&hertz442(&["-tresca_bound", "3"]), "-tresca_bound", why);
+    // The typo leaves the run frictionless: named with the option meant.
+    let run = hertz442(&["-frcition", "coulomb", "-friction_coefficient", "0.5"]);
+    named_once(&run, "-frcition", "was not used; did you mean -friction?");
+    named_once(&run, "-friction_coefficient", why);
+    // Tresca with a given bound does not use nu_f, nor CF-FP's settings.
+    let run = hertz442(&[
+        "-friction",
+        "tresca",
+        "-friction_coefficient",
+        "0.6",
+        "-tresca_bound",
+        "50",
+        "-ubr_fp_max_it",
+        "3",
+    ]);
+    named_once(
+        &run,
+        "-friction_coefficient",
+        "-tresca_bound 50 gives the Tresca bound",
+    );
+    named_once(&run, "-ubr_fp_max_it", "-friction coulomb only");
+    not_named(&run, "-tresca_bound");
+}
+
+#[test]
+fn algorithm_and_solver_options_that_do_not_apply() {
+    // The comparator runs no UBR iteration; SSN-C reads -ubr_monitor and
+    // its own initial guess.
+    let run = hertz442(&[
+        "-contact_algorithm",
+        "ssn",
+        "-ssn_initial_shift",
+        "0,-0.01",
+        "-ubr_anderson",
+        "5",
+        "-ubr_monitor",
+    ]);
+    named_once(
+        &run,
+        "-ubr_anderson",
+        "-contact_algorithm ssn runs no UBR iteration",
+    );
+    not_named(&run, "-ubr_monitor");
+    not_named(&run, "-ssn_initial_shift");
+    // UBR ignores the comparators' settings, and the tolerances of the other
+    // stopping test.
+    let run = hertz442(&["-ssn_initial_shift", "0,-0.01", "-ubr_rtol", "1e-6"]);
+    named_once(&run, "-ssn_initial_shift", "comparators' initial guess");
+    named_once(&run, "-ubr_rtol", "-ubr_stop is accuracy");
+    // PETSc's solver options, when the program drives MUMPS itself.
+    let run = hertz442(&["-ksp_rtol", "1e-9", "-ubr_sbaij", "0"]);
+    named_once(&run, "-ksp_rtol", "MUMPS driven by ubr-petsc");
+    named_once(&run, "-ubr_sbaij", "iterative solvers");
+    // ... and not when a PETSc solver reads them.
+    let run = hertz442(&["-ksp_type", "cg", "-pc_type", "gamg", "-ksp_rtol", "1e-9"]);
+    assert_eq!(run.status, Some(0), "{}", run.stderr);
+    not_named(&run, "-ksp_rtol");
+}
+
+#[test]
+fn reference_and_mesh_options_that_do_not_apply() {
+    let run = mpirun(
+        2,
+        &[
+            "-options_file",
+            "options/block3d",
+            "-mesh",
+            "meshes/block3d_198.msh",
+            "-reference_force",
+            "5",
+            "-mesh_h",
+            "0.1",
+        ],
+    );
+    named_once(&run, "-reference_force", "-reference hertz is not given");
+    named_once(&run, "-mesh_h", "the mesh is read from -mesh");
+}
+
+/// The shipped scene warns of no option.
+#[test]
+fn a_correct_scene_names_no_option() {
+    let run = hertz442(&[]);
+    assert_eq!(run.status, Some(0), "{}", run.stderr);
+    assert!(
+        !run.stderr.contains("has no effect") && !run.stderr.contains("was not used"),
+        "{}",
+        run.stderr
+    );
+}
+
+/// An options file saved with a UTF-8 byte-order mark runs as without it
+/// (a PETSc traceback, exit 1, before), on one rank and on two; a file it
+/// includes may have one too.
+#[test]
+fn byte_order_mark_is_skipped() {
+    let dir = scratch("bom-files");
+    let inner = dir.join("inner");
+    std::fs::write(&inner, "\u{feff}-options_file options/hertz-paper\n").unwrap();
+    let outer = dir.join("outer");
+    std::fs::write(
+        &outer,
+        format!(
+            "\u{feff}# saved by an editor that writes a BOM\n-options_file {}\n-mesh meshes/hertz_442.msh\n",
+            inner.display()
+        ),
+    )
+    .unwrap();
+    let outer_s = outer.to_str().unwrap().to_string();
+    for ranks in [1, 2] {
+        let (run, _, with_bom) = solve_rows("bom", ranks, &["-options_file", &outer_s]);
+        assert!(!run.stderr.contains("error"), "{}", run.stderr);
+        let (_, _, plain) = solve_rows("plain", ranks, &hertz_args("meshes/hertz_442.msh", &[]));
+        assert_eq!(max_pressure_gap(&with_bom, &plain), 0.0);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
