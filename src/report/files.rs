@@ -60,67 +60,37 @@ pub fn collective<C: Communicator>(world: &C, outcome: Result<(), Error>) -> Res
 /// `-plot_history`: per iteration, the paper's change (4.16)/(5.6) where
 /// it was computed (not in a condensed run under the accuracy stop), the
 /// constraint residual, and under the accuracy stop the error estimate of
-/// lambda with the target that stops the run.
+/// lambda with the target that stops the run ([`plot::history_curves`]).
 fn plot_history(path: &str, m: &Results) -> Result<(), Error> {
     use plot::{plot_lines, Series, Style};
     let h = &m.state.history;
     let its: Vec<f64> = (0..h.len()).map(|k| k as f64).collect();
-    let column = |c: usize| -> Vec<f64> { h.iter().map(|h| h[c]).collect() };
-    let (change, residual, estimate) = (column(0), column(1), column(2));
-    let drawn = |v: &[f64]| v.iter().any(|x| x.is_finite() && *x > 0.0);
-    let line = |label, y| Series {
-        label,
-        x: &its,
-        y,
-        style: Style::Line,
-    };
-    let mut series = Vec::new();
-    if drawn(&change) {
-        series.push(line("relative change (4.16)/(5.6)", &change));
-    }
-    series.push(line("constraint residual ||Bu - phi||", &residual));
-    let accuracy = m.settings.ubr.stop == StopRule::Accuracy && !m.solved.is_comparator();
-    // CF-FP's Tresca solves stop ten times tighter than the outer target
-    // (the last ones at -ubr_lambda_rtol / 40).
+    let accuracy = (m.settings.ubr.stop == StopRule::Accuracy && !m.solved.is_comparator())
+        .then_some(m.settings.ubr.lambda_rtol);
     let coulomb = m.solved.fixed_point_iterations > 0;
-    let tol = m.settings.ubr.lambda_rtol;
-    let (target, target_label) = if coulomb {
-        (
-            tol / 40.0,
-            format!(
-                "the last Tresca solves stop below -ubr_lambda_rtol/40 = {:.1e}",
-                tol / 40.0
-            ),
-        )
-    } else {
-        (
-            tol / 4.0,
-            format!(
-                "stop: estimate below -ubr_lambda_rtol/4 = {:.1e}",
-                tol / 4.0
-            ),
-        )
-    };
-    let target_x = [0.0, its.last().copied().unwrap_or(0.0)];
-    let target_y = [target, target];
-    if accuracy {
-        series.push(line(
-            "estimated error of lambda (relative, max norm)",
-            &estimate,
-        ));
-        series.push(Series {
-            label: &target_label,
-            x: &target_x,
-            y: &target_y,
-            style: Style::DashedLine,
-        });
-    }
-    let note = if drawn(&change) {
-        ""
-    } else if m.problem.lin.condensed_unknowns() > 0 {
-        " (condensed solves: no change (4.16) per iteration)"
-    } else {
-        " (no change (4.16) computed)"
+    let curves = plot::history_curves(h, Some(m.solved.last.criterion), accuracy, coulomb);
+    let series: Vec<Series> = curves
+        .iter()
+        .map(|c| Series {
+            label: &c.label,
+            x: &its,
+            y: &c.y,
+            style: if c.dashed {
+                Style::DashedLine
+            } else {
+                Style::Line
+            },
+        })
+        .collect();
+    let note = match curves
+        .iter()
+        .find(|c| c.label.starts_with("relative change"))
+    {
+        Some(c) if !c.label.contains("end only") => "",
+        _ if m.problem.lin.condensed_unknowns() > 0 => {
+            " (condensed solves: no change (4.16) per iteration)"
+        }
+        _ => " (no change (4.16) per iteration)",
     };
     let x_label = if coulomb {
         "Tresca iteration (those of every fixed-point iteration, in a row)"

@@ -151,8 +151,83 @@ pub fn plot_history(
     plot_lines(path, title, "iteration", "residual", &s, true)
 }
 
+/// One curve of `-plot_history`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HistoryCurve {
+    pub label: String,
+    /// A value per iteration (NaN where there is none).
+    pub y: Vec<f64>,
+    /// Dashed: a target, not a history.
+    pub dashed: bool,
+}
+
+/// The curves of `-plot_history` from the history of a run (per
+/// iteration: the paper's change (4.16)/(5.6), NaN where it was not
+/// computed; the constraint residual; the error estimate of lambda, NaN
+/// under the paper's stop): the change where it exists (else, as one point,
+/// `final_change`, the change of the last iteration computed after the
+/// loop of a condensed run), the residual, and under the accuracy stop
+/// (`accuracy`: `-ubr_lambda_rtol`) the estimate and the target that stops
+/// the run, `lambda_rtol / 4`, or with `coulomb` the target of CF-FP's last
+/// Tresca solves, `lambda_rtol / 40`.
+pub fn history_curves(
+    history: &[[f64; 3]],
+    final_change: Option<f64>,
+    accuracy: Option<f64>,
+    coulomb: bool,
+) -> Vec<HistoryCurve> {
+    let column = |c: usize| -> Vec<f64> { history.iter().map(|h| h[c]).collect() };
+    let curve = |label: &str, y: Vec<f64>, dashed: bool| HistoryCurve {
+        label: label.to_string(),
+        y,
+        dashed,
+    };
+    let mut out = Vec::new();
+    let mut change = column(0);
+    if change.iter().any(|x| x.is_finite() && *x > 0.0) {
+        out.push(curve("relative change (4.16)/(5.6)", change, false));
+    } else if let (Some(last), Some(c)) = (change.last_mut(), final_change) {
+        if c.is_finite() && c > 0.0 {
+            *last = c;
+            out.push(curve(
+                "relative change (4.16)/(5.6), at the end only",
+                change,
+                false,
+            ));
+        }
+    }
+    out.push(curve("constraint residual ||Bu - phi||", column(1), false));
+    if let Some(tol) = accuracy {
+        out.push(curve(
+            "estimated error of lambda (relative, max norm)",
+            column(2),
+            false,
+        ));
+        let (target, label) = if coulomb {
+            (
+                tol / 40.0,
+                format!(
+                    "the last Tresca solves stop below -ubr_lambda_rtol/40 = {:.1e}",
+                    tol / 40.0
+                ),
+            )
+        } else {
+            (
+                tol / 4.0,
+                format!(
+                    "stop: estimate below -ubr_lambda_rtol/4 = {:.1e}",
+                    tol / 4.0
+                ),
+            )
+        };
+        out.push(curve(&label, vec![target; history.len()], true));
+    }
+    out
+}
+
 /// A series after dropping the points that cannot be drawn: runs of
 /// consecutive drawable points.
+#[derive(Clone, Debug)]
 struct Clean {
     runs: Vec<Vec<(f64, f64)>>,
 }
@@ -1423,6 +1498,104 @@ mod tests {
             "{e}"
         );
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// The lowest row with a coloured pixel in a PNG file.
+    fn lowest_coloured_row(path: &Path) -> usize {
+        let (w, _, rgb) = decode(path);
+        rgb.chunks(3)
+            .enumerate()
+            .filter(|(_, p)| {
+                let (mx, mn) = (p.iter().max(), p.iter().min());
+                matches!((mx, mn), (Some(a), Some(b)) if a - b > 60)
+            })
+            .map(|(i, _)| i / w as usize)
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// A line that turns back sharply (a zig-zag through scattered nodes)
+    /// stays where its points are: no spike below its lowest value, past
+    /// the axis (the bitmap backend's joins of nearly parallel legs reached
+    /// 100 px below it, into the tick labels).
+    #[test]
+    fn sharp_turns_do_not_spike() {
+        let dir = temp_dir("spike");
+        // Nodes 2 px apart, alternately at 0 and 1: the legs of each turn
+        // nearly parallel (the bound s at scattered 3D nodes).
+        // Scattered nodes (a 3D bound against the distance): close in x,
+        // scattered in y, the legs of each turn nearly parallel.
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut x: Vec<f64> = (0..300).map(|_| 0.6 * next()).collect();
+        x.sort_by(f64::total_cmp);
+        let mut y: Vec<f64> = x
+            .iter()
+            .map(|&v| (40.0 * (1.0 - v / 0.6) + 10.0 * (next() - 0.5)).max(0.0))
+            .collect();
+        x.extend([1.0, 3.0]);
+        y.extend([0.0, 0.0]);
+        let mut lowest = Vec::new();
+        for (name, style) in [("points", Style::Points), ("line", Style::Line)] {
+            let path = dir.join(format!("{name}.png"));
+            let series = [Series {
+                label: "",
+                x: &x,
+                y: &y,
+                style,
+            }];
+            plot_lines(&path, name, "x", "y", &series, false).expect("plot");
+            lowest.push(lowest_coloured_row(&path));
+        }
+        // A dot reaches 4 px below its centre, a 3 px line 1-2 px.
+        assert!(
+            lowest[1] <= lowest[0],
+            "line {} vs points {}",
+            lowest[1],
+            lowest[0]
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A given x range cuts lines at its border and drops points outside.
+    #[test]
+    fn clipping_to_an_x_range() {
+        let c = Clean {
+            runs: vec![vec![(0.0, 0.0), (2.0, 2.0), (4.0, 0.0), (6.0, 2.0)]],
+        };
+        let line = clip_x(
+            Clean {
+                runs: c.runs.clone(),
+            },
+            &(1.0..5.0),
+            true,
+        );
+        assert_eq!(
+            line.runs,
+            vec![vec![(1.0, 1.0), (2.0, 2.0), (4.0, 0.0), (5.0, 1.0)]]
+        );
+        let points = clip_x(c, &(1.0..5.0), false);
+        assert_eq!(points.runs, vec![vec![(2.0, 2.0), (4.0, 0.0)]]);
+        // A segment across the whole range, and one that leaves and comes back.
+        let across = Clean {
+            runs: vec![vec![(0.0, 0.0), (10.0, 10.0)]],
+        };
+        assert_eq!(
+            clip_x(across, &(2.0..3.0), true).runs,
+            vec![vec![(2.0, 2.0), (3.0, 3.0)]]
+        );
+        let back = Clean {
+            runs: vec![vec![(0.0, 0.0), (2.0, 0.0), (0.0, 1.0)]],
+        };
+        assert_eq!(
+            clip_x(back, &(-1.0..1.0), true).runs,
+            vec![vec![(0.0, 0.0), (1.0, 0.0)], vec![(1.0, 0.5), (0.0, 1.0)]]
+        );
     }
 
     #[test]
