@@ -190,11 +190,16 @@ fn algorithm(m: &Results) {
         }
         if s.ubr.anderson > 0 {
             println!(
-                "  Anderson        memory {} (safeguarded type II on z = lambda + r B u): {} of {} evaluations extrapolated, {} rejected",
+                "  Anderson        memory {} (safeguarded type II on z = lambda + r B u): {} of {} evaluations extrapolated, {} rejected{}",
                 s.ubr.anderson,
                 res.last.anderson_steps,
                 res.last.iterations,
-                res.last.anderson_rejected
+                res.last.anderson_rejected,
+                if res.fixed_point_iterations > 0 {
+                    " (the last Tresca solve)"
+                } else {
+                    ""
+                }
             );
         } else {
             println!("  Anderson        off (-ubr_anderson 0: the paper's plain iteration)");
