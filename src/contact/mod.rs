@@ -23,6 +23,10 @@ pub struct ContactSet {
     pub w: Vec<f64>,
     /// Gap g_i along n (negative: initial penetration).
     pub g: Vec<f64>,
+    /// Each candidate's contact surface: its index in
+    /// `ContactSettings::surfaces`, the first group with a facet at the node
+    /// (a node where two groups meet counts in the first).
+    pub group: Vec<usize>,
 }
 
 impl ContactSet {
@@ -77,13 +81,14 @@ impl ContactSet {
         // Weights of every owned node of the surface.
         let mut weight = vec![0.0; mesh.owned_count];
         let mut on_surface = vec![false; mesh.owned_count];
+        let mut group_of = vec![usize::MAX; mesh.owned_count];
         let mut seen = std::collections::HashSet::new();
         // w_i: sum over the facets of the surfaces touching node i of the
         // facet's nodal weight (measure / vertices for a simplex facet;
         // int N_i dA for a quadrilateral, a quarter of a parallelogram;
         // `element::facet_weights`); a facet in two surfaces counts once.
         let mut share = Vec::with_capacity(4);
-        for group in groups {
+        for (k, group) in groups.into_iter().enumerate() {
             for e in &group.conn {
                 let mut key = e.to_vec();
                 key.sort_unstable();
@@ -96,6 +101,7 @@ impl ContactSet {
                     if mesh.is_owned(v) {
                         weight[v] += w;
                         on_surface[v] = true;
+                        group_of[v] = group_of[v].min(k);
                     }
                 }
             }
@@ -113,6 +119,7 @@ impl ContactSet {
                 set.node.push(v);
                 set.w.push(weight[v]);
                 set.g.push(g);
+                set.group.push(group_of[v]);
             }
         }
         Ok(set)

@@ -10,6 +10,7 @@ use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
 use crate::options::{Friction, Settings};
 use crate::solver::allreduce_max;
+use crate::solver::stopping::StopRule;
 use mpi::traits::*;
 use std::path::Path;
 
@@ -56,19 +57,53 @@ pub fn collective<C: Communicator>(world: &C, outcome: Result<(), Error>) -> Res
     }
 }
 
+/// `-plot_history`: per iteration, the paper's change (4.16)/(5.6) where
+/// it was computed (not in a condensed run under the accuracy stop), the
+/// constraint residual, and under the accuracy stop the error estimate of
+/// lambda with the target that stops the run ([`plot::history_curves`]).
 fn plot_history(path: &str, m: &Results) -> Result<(), Error> {
+    use plot::{plot_lines, Series, Style};
     let h = &m.state.history;
     let its: Vec<f64> = (0..h.len()).map(|k| k as f64).collect();
-    let change: Vec<f64> = h.iter().map(|h| h[0]).collect();
-    let residual: Vec<f64> = h.iter().map(|h| h[1]).collect();
-    plot::plot_history(
+    let accuracy = (m.settings.ubr.stop == StopRule::Accuracy && !m.solved.is_comparator())
+        .then_some(m.settings.ubr.lambda_rtol);
+    let coulomb = m.solved.fixed_point_iterations > 0;
+    let curves = plot::history_curves(h, Some(m.solved.last.criterion), accuracy, coulomb);
+    let series: Vec<Series> = curves
+        .iter()
+        .map(|c| Series {
+            label: &c.label,
+            x: &its,
+            y: &c.y,
+            style: if c.dashed {
+                Style::DashedLine
+            } else {
+                Style::Line
+            },
+        })
+        .collect();
+    let note = match curves
+        .iter()
+        .find(|c| c.label.starts_with("relative change"))
+    {
+        Some(c) if !c.label.contains("end only") => "",
+        _ if m.problem.lin.condensed_unknowns() > 0 => {
+            " (condensed solves: no change (4.16) per iteration)"
+        }
+        _ => " (no change (4.16) per iteration)",
+    };
+    let x_label = if coulomb {
+        "Tresca iteration (those of every fixed-point iteration, in a row)"
+    } else {
+        "iteration"
+    };
+    plot_lines(
         Path::new(path),
-        &format!("{}: convergence history", m.solved.name),
-        &its,
-        &[
-            ("relative change (4.16)/(5.6)", &change),
-            ("constraint residual ||Bu - phi||", &residual),
-        ],
+        &format!("{}: convergence history{note}", m.solved.name),
+        x_label,
+        "value (log scale)",
+        &series,
+        true,
     )
     .map_err(|e| Error::output("-plot_history", path, e))
 }
@@ -100,9 +135,11 @@ fn plot_center(given: Option<&[f64]>, rows: &[ContactRow], d: usize) -> Vec<f64>
 /// `-plot_contact`: pressure, and with friction |lambda_t| and the bound s,
 /// along the surface (2D: a signed coordinate from the contact centre, so
 /// that both sides of an asymmetric contact show; 3D: the distance from
-/// it), with the Hertz curve under `-reference hertz`.
+/// it, scattered points), with the Hertz curve under `-reference hertz`;
+/// zoomed on the contact zone ([`plot::contact_zoom`]), the stress axis
+/// from zero, the 2D bound's line broken between surfaces and at holes.
 fn plot_contact(path: &str, m: &Results) -> Result<(), Error> {
-    use plot::{plot_lines, Series, Style};
+    use plot::{plot_with_axes, Axes, Series, Style};
     let (s, rows, d) = (m.settings, m.rows, m.local.dim);
     let n = &m.problem.contact.n;
     let given = s
@@ -126,6 +163,17 @@ fn plot_contact(path: &str, m: &Results) -> Result<(), Error> {
         .map(|&i| rows[i].lambda_t.iter().map(|v| v * v).sum::<f64>().sqrt())
         .collect();
     let bound: Vec<f64> = order.iter().map(|&i| rows[i].bound).collect();
+    let group: Vec<usize> = order.iter().map(|&i| rows[i].group).collect();
+    let touching: Vec<bool> = order.iter().map(|&i| rows[i].status != 0).collect();
+    let zoom = plot::contact_zoom(&x, &touching);
+    let (bx, by) = plot::break_lines(&x, &bound, &group);
+    // 3D: the bound at the nodes in contact (elsewhere it is 0, as the
+    // pressure shows).
+    let touching_bound: Vec<f64> = bound
+        .iter()
+        .zip(&touching)
+        .map(|(&b, &t)| if t { b } else { f64::NAN })
+        .collect();
     let mut series = vec![Series {
         label: "contact pressure lambda_n",
         x: &x,
@@ -139,19 +187,33 @@ fn plot_contact(path: &str, m: &Results) -> Result<(), Error> {
             y: &lt,
             style: Style::Points,
         });
-        series.push(Series {
-            label: "friction bound s",
-            x: &x,
-            y: &bound,
-            style: Style::Line,
+        // In 3D the distance does not order the nodes along a curve: the
+        // bound at each node, not a line through them.
+        series.push(if d == 2 {
+            Series {
+                label: "friction bound s",
+                x: &bx,
+                y: &by,
+                style: Style::Line,
+            }
+        } else {
+            Series {
+                label: "friction bound s (at each node in contact)",
+                x: &x,
+                y: &touching_bound,
+                style: Style::Rings,
+            }
         });
     }
     let (hx, hy): (Vec<f64>, Vec<f64>) = match &s.reference {
         Some(r) => {
-            let (lo, hi) = (
-                x.first().copied().unwrap_or(0.0),
-                x.last().copied().unwrap_or(0.0),
-            );
+            let (lo, hi) = match &zoom {
+                Some(z) => (z.start, z.end),
+                None => (
+                    x.first().copied().unwrap_or(0.0),
+                    x.last().copied().unwrap_or(0.0),
+                ),
+            };
             (0..=400)
                 .map(|k| {
                     let xi = lo + (hi - lo) * k as f64 / 400.0;
@@ -171,17 +233,35 @@ fn plot_contact(path: &str, m: &Results) -> Result<(), Error> {
         });
     }
     let title = format!(
-        "Contact stresses ({}), {} candidates",
-        s.friction.name(),
-        rows.len()
+        "Contact stresses ({}): {} of {} candidates in contact{}",
+        m.friction_name(),
+        touching.iter().filter(|&&t| t).count(),
+        rows.len(),
+        if zoom.is_some() {
+            ", zoomed on the contact zone"
+        } else {
+            ""
+        }
     );
     let axis = if d == 2 {
         "position along the surface from the contact centre (signed, orthogonal to n)"
     } else {
         "distance from the contact centre, orthogonal to n"
     };
-    plot_lines(Path::new(path), &title, axis, "stress", &series, false)
-        .map_err(|e| Error::output("-plot_contact", path, e))
+    let axes = Axes {
+        x_range: zoom,
+        y_from_zero: true,
+    };
+    plot_with_axes(
+        Path::new(path),
+        &title,
+        axis,
+        "stress",
+        &series,
+        false,
+        &axes,
+    )
+    .map_err(|e| Error::output("-plot_contact", path, e))
 }
 
 /// The fields of one rank's part of the mesh, for the ParaView files.

@@ -54,6 +54,9 @@ pub struct Report {
     /// `sum w lambda_n`, and `sum w lambda_t` (global components).
     pub contact_force: f64,
     pub tangential_force: Vec<f64>,
+    /// `sum w lambda_n` over each group of `-contact_surface` (one entry per
+    /// group; a node where two groups meet counts in the first named).
+    pub contact_force_groups: BTreeMap<String, f64>,
     /// The force the obstacle exerts on the body, `-sum w (lambda_n n + lambda_t)`.
     pub contact_force_vector: Vec<f64>,
     /// The applied loads (tractions, pressures, body force), summed.
@@ -71,6 +74,7 @@ pub struct Report {
     pub peak_pressure_hertz: Option<f64>,
     pub contact_half_width_hertz: Option<f64>,
     pub peak_pressure: f64,
+    /// The contact half-width in 2D, its radius in 3D (with `-reference hertz`).
     pub contact_half_width: Option<f64>,
     pub equilibrium_residual: f64,
     pub equilibrium_residual_rel: f64,
@@ -157,6 +161,7 @@ impl Report {
             fixed_point_change: res.fp_change,
             contact_force: m.totals.force,
             tangential_force: m.totals.tangential_force.clone(),
+            contact_force_groups: m.group_forces().into_iter().collect(),
             contact_force_vector: m.forces.contact.clone(),
             load: m.forces.load.clone(),
             reactions: m.forces.reactions.iter().cloned().collect(),

@@ -25,7 +25,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Number of f64 values per contact row on the wire.
-pub const ROW_LEN: usize = 16;
+pub const ROW_LEN: usize = 17;
 
 /// One contact candidate, as written to the CSV.
 #[derive(Clone, Debug, Default)]
@@ -42,6 +42,9 @@ pub struct ContactRow {
     pub status: u8,
     /// The friction bound s (0 without friction; not in the CSV).
     pub bound: f64,
+    /// The contact surface: the index of its group in `-contact_surface`
+    /// (not in the CSV).
+    pub group: usize,
 }
 
 impl ContactRow {
@@ -59,6 +62,7 @@ impl ContactRow {
         out.extend_from_slice(&self.lambda_t);
         out.push(self.status as f64);
         out.push(self.bound);
+        out.push(self.group as f64);
     }
     fn unpack(v: &[f64]) -> ContactRow {
         ContactRow {
@@ -72,6 +76,7 @@ impl ContactRow {
             lambda_t: [v[11], v[12], v[13]],
             status: v[14] as u8,
             bound: v[15],
+            group: v[16] as usize,
         }
     }
 }
@@ -117,6 +122,7 @@ pub fn contact_rows(
                 lambda_t: lt.map(|v| v + 0.0),
                 status,
                 bound: bound.get(i).copied().unwrap_or(0.0),
+                group: cs.group[i],
             }
         })
         .collect()
@@ -144,6 +150,10 @@ pub struct Totals {
     pub stick: usize,
     pub slip: usize,
     pub peak_pressure: f64,
+    /// `sum w lambda_n` over the candidates of each contact surface, by
+    /// its index in `-contact_surface` (up to the last with a candidate:
+    /// see [`Results::group_forces`]); they add up to `force`.
+    pub group_force: Vec<f64>,
 }
 
 impl Totals {
@@ -154,6 +164,10 @@ impl Totals {
         };
         for r in rows {
             t.force += r.weight * r.lambda_n;
+            if r.group >= t.group_force.len() {
+                t.group_force.resize(r.group + 1, 0.0);
+            }
+            t.group_force[r.group] += r.weight * r.lambda_n;
             for (c, f) in t.tangential_force.iter_mut().enumerate() {
                 *f += r.weight * r.lambda_t[c];
             }
@@ -198,6 +212,25 @@ impl Results<'_> {
             Friction::Tresca => "Tresca friction",
             Friction::Coulomb => "Coulomb friction",
         }
+    }
+
+    /// The contact force `sum w lambda_n` of each group of
+    /// `-contact_surface`, in its order (a group named twice counts once).
+    pub fn group_forces(&self) -> Vec<(String, f64)> {
+        let names = self
+            .settings
+            .contact
+            .as_ref()
+            .map_or(&[][..], |c| &c.surfaces[..]);
+        let mut out: Vec<(String, f64)> = Vec::with_capacity(names.len());
+        for (k, name) in names.iter().enumerate() {
+            let f = self.totals.group_force.get(k).copied().unwrap_or(0.0);
+            match out.iter_mut().find(|(n, _)| n == name) {
+                Some((_, g)) => *g += f,
+                None => out.push((name.clone(), f)),
+            }
+        }
+        out
     }
 }
 

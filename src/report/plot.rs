@@ -21,8 +21,10 @@
 //! Points with a non-finite coordinate (or one beyond 1e300 in magnitude)
 //! are dropped, and on a log axis so are points with a non-positive value (and
 //! values more than 250 decades below the largest); a line is broken where
-//! points are dropped. If `x` and `y` differ in length the extra values are
-//! ignored.
+//! points are dropped (a NaN between two points breaks it on purpose). If
+//! `x` and `y` differ in length the extra values are ignored. With a given x
+//! range ([`Axes::x_range`]) what lies outside is cut off: points dropped,
+//! lines cut at the border; the y range is that of what remains.
 //! Empty series, or no drawable point at all, give a plot with empty axes
 //! (marked "no data"), never a panic.
 
@@ -76,6 +78,18 @@ pub enum Style {
     Line,
     /// A dashed polyline (e.g. an analytic reference curve).
     DashedLine,
+    /// A hollow circle per point (scattered values drawn over others).
+    Rings,
+}
+
+/// How the axes are chosen, beyond the data.
+#[derive(Clone, Debug, Default)]
+pub struct Axes {
+    /// The x range shown (data bounds when None); what lies outside is cut off.
+    pub x_range: Option<Range<f64>>,
+    /// A linear y axis that always shows 0 (a contact pressure: a nearly
+    /// constant one is then not magnified into noise).
+    pub y_from_zero: bool,
 }
 
 /// Line plot with a title, axis labels and a legend, e.g. the
@@ -91,7 +105,28 @@ pub fn plot_lines(
     series: &[Series],
     log_y: bool,
 ) -> Result<(), String> {
-    let png = render(title, x_label, y_label, series, log_y)
+    plot_with_axes(
+        path,
+        title,
+        x_label,
+        y_label,
+        series,
+        log_y,
+        &Axes::default(),
+    )
+}
+
+/// [`plot_lines`] with the axes chosen by `axes`. Atomic.
+pub fn plot_with_axes(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    log_y: bool,
+    axes: &Axes,
+) -> Result<(), String> {
+    let png = render(title, x_label, y_label, series, log_y, axes)
         .map_err(|e| format!("cannot draw plot '{}': {e}", path.display()))?;
     write_atomic(path, &png).map_err(|e| format!("cannot write plot '{}': {e}", path.display()))
 }
@@ -116,10 +151,149 @@ pub fn plot_history(
     plot_lines(path, title, "iteration", "residual", &s, true)
 }
 
+/// One curve of `-plot_history`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HistoryCurve {
+    pub label: String,
+    /// A value per iteration (NaN where there is none).
+    pub y: Vec<f64>,
+    /// Dashed: a target, not a history.
+    pub dashed: bool,
+}
+
+/// The curves of `-plot_history` from the history of a run (per
+/// iteration: the paper's change (4.16)/(5.6), NaN where it was not
+/// computed; the constraint residual; the error estimate of lambda, NaN
+/// under the paper's stop): the change where it exists (else, as one point,
+/// `final_change`, the change of the last iteration computed after the
+/// loop of a condensed run), the residual, and under the accuracy stop
+/// (`accuracy`: `-ubr_lambda_rtol`) the estimate and the target that stops
+/// the run, `lambda_rtol / 4`, or with `coulomb` the target of CF-FP's last
+/// Tresca solves, `lambda_rtol / 40`.
+pub fn history_curves(
+    history: &[[f64; 3]],
+    final_change: Option<f64>,
+    accuracy: Option<f64>,
+    coulomb: bool,
+) -> Vec<HistoryCurve> {
+    let column = |c: usize| -> Vec<f64> { history.iter().map(|h| h[c]).collect() };
+    let curve = |label: &str, y: Vec<f64>, dashed: bool| HistoryCurve {
+        label: label.to_string(),
+        y,
+        dashed,
+    };
+    let mut out = Vec::new();
+    let mut change = column(0);
+    if change.iter().any(|x| x.is_finite() && *x > 0.0) {
+        out.push(curve("relative change (4.16)/(5.6)", change, false));
+    } else if let (Some(last), Some(c)) = (change.last_mut(), final_change) {
+        if c.is_finite() && c > 0.0 {
+            *last = c;
+            out.push(curve(
+                "relative change (4.16)/(5.6), at the end only",
+                change,
+                false,
+            ));
+        }
+    }
+    out.push(curve("constraint residual ||Bu - phi||", column(1), false));
+    if let Some(tol) = accuracy {
+        out.push(curve(
+            "estimated error of lambda (relative, max norm)",
+            column(2),
+            false,
+        ));
+        let (target, label) = if coulomb {
+            (
+                tol / 40.0,
+                format!(
+                    "the last Tresca solves stop below -ubr_lambda_rtol/40 = {:.1e}",
+                    tol / 40.0
+                ),
+            )
+        } else {
+            (
+                tol / 4.0,
+                format!(
+                    "stop: estimate below -ubr_lambda_rtol/4 = {:.1e}",
+                    tol / 4.0
+                ),
+            )
+        };
+        out.push(curve(&label, vec![target; history.len()], true));
+    }
+    out
+}
+
 /// A series after dropping the points that cannot be drawn: runs of
 /// consecutive drawable points.
+#[derive(Clone, Debug)]
 struct Clean {
     runs: Vec<Vec<(f64, f64)>>,
+}
+
+/// `c` cut to `x` in `range`: points outside dropped; with `line`, each
+/// segment cut at the border (a run that leaves the range ends there).
+fn clip_x(c: Clean, range: &Range<f64>, line: bool) -> Clean {
+    let (lo, hi) = (range.start, range.end);
+    let inside = |x: f64| x >= lo && x <= hi;
+    let mut runs = Vec::new();
+    for run in c.runs {
+        let mut cur: Vec<(f64, f64)> = Vec::new();
+        if !line || run.len() == 1 {
+            for &(x, y) in &run {
+                if inside(x) {
+                    cur.push((x, y));
+                }
+            }
+            if !cur.is_empty() {
+                runs.push(cur);
+            }
+            continue;
+        }
+        for w in run.windows(2) {
+            let ((x0, y0), (x1, y1)) = (w[0], w[1]);
+            // The parameters t in [0, 1] of the segment within the range.
+            let (mut t0, mut t1) = (0.0f64, 1.0f64);
+            let dx = x1 - x0;
+            if dx == 0.0 {
+                if !inside(x0) {
+                    t0 = 1.0;
+                    t1 = 0.0;
+                }
+            } else {
+                let (ta, tb) = ((lo - x0) / dx, (hi - x0) / dx);
+                t0 = t0.max(ta.min(tb));
+                t1 = t1.min(ta.max(tb));
+            }
+            if t0 > t1 {
+                if !cur.is_empty() {
+                    runs.push(std::mem::take(&mut cur));
+                }
+                continue;
+            }
+            let at = |t: f64| {
+                if t == 0.0 {
+                    (x0, y0)
+                } else if t == 1.0 {
+                    (x1, y1)
+                } else {
+                    (x0 + t * dx, y0 + t * (y1 - y0))
+                }
+            };
+            if cur.is_empty() {
+                cur.push(at(t0));
+            }
+            cur.push(at(t1));
+            if t1 < 1.0 {
+                runs.push(std::mem::take(&mut cur));
+            }
+        }
+        if !cur.is_empty() {
+            runs.push(cur);
+        }
+    }
+    Clean { runs }
 }
 
 /// Largest magnitude drawn: beyond it axis widths would overflow.
@@ -168,7 +342,8 @@ fn axis_range(bounds: Option<(f64, f64)>, log: bool, pad_lo: f64, pad_hi: f64) -
         }
     } else {
         let (lo, hi) = bounds.unwrap_or((0.0, 1.0));
-        let (lo, hi) = if hi - lo <= 1e-12 * lo.abs().max(hi.abs()) || hi - lo < f64::MIN_POSITIVE {
+        // Constant to 1e-9 (round-off of a computed constant): 10% around it.
+        let (lo, hi) = if hi - lo <= 1e-9 * lo.abs().max(hi.abs()) || hi - lo < f64::MIN_POSITIVE {
             let d = if lo.abs() > 0.0 { 0.1 * lo.abs() } else { 1.0 };
             (lo - d, hi + d)
         } else {
@@ -217,13 +392,14 @@ impl TickFormat {
     }
 
     fn label(&self, v: f64) -> String {
-        if v == 0.0 || !v.is_finite() {
+        // A tick at zero computed as -1e-17 is 0, not "-0".
+        if v == 0.0 || !v.is_finite() || v.abs() < 1e-9 * self.step {
             return "0".into();
         }
         let digits = |x: f64| x.abs().log10().floor();
         if self.scientific {
             let decimals = if self.step > 0.0 {
-                (digits(v) - digits(self.step)).clamp(0.0, 8.0) as usize
+                (digits(v) - digits(self.step)).clamp(0.0, 12.0) as usize
             } else {
                 2
             };
@@ -237,17 +413,42 @@ impl TickFormat {
             };
         }
         let decimals = if self.step > 0.0 {
-            (-digits(self.step)).clamp(0.0, 8.0) as usize
+            (-digits(self.step)).clamp(0.0, 12.0) as usize
         } else {
             3
         };
         let s = format!("{v:.decimals$}");
-        if s.contains('.') {
+        let s = if s.contains('.') {
             s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        };
+        if s == "-0" {
+            "0".into()
         } else {
             s
         }
     }
+}
+
+/// The range and the tick labels of a linear axis for data within
+/// `bounds` (None: no data), as the plots draw a y axis (before any room is
+/// made for the legend); with `from_zero` the range includes 0.
+pub fn linear_axis(bounds: Option<(f64, f64)>, from_zero: bool) -> (Range<f64>, Vec<String>) {
+    let range = y_axis_range(bounds, false, from_zero);
+    let ticks = RangedCoordf64::from(range.clone()).key_points(BoldPoints(Y_TICKS));
+    let format = TickFormat::new(&ticks);
+    let labels = ticks.iter().map(|&v| format.label(v)).collect();
+    (range, labels)
+}
+
+/// The y range of the data within `bounds`.
+fn y_axis_range(bounds: Option<(f64, f64)>, log_y: bool, from_zero: bool) -> Range<f64> {
+    let bounds = match bounds {
+        Some((lo, hi)) if from_zero && !log_y => Some((lo.min(0.0), hi.max(0.0))),
+        b => b,
+    };
+    axis_range(bounds, log_y, 0.04, 0.08)
 }
 
 /// Log-axis tick label: 1e-6, 0.01, 1, 100, 1e4 …
@@ -266,6 +467,62 @@ fn log_tick_label(v: f64) -> String {
         Some((m, e)) => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
         None => s,
     }
+}
+
+/// The x range a contact plot zooms on, for candidates at `x` (any order)
+/// of which `in_contact` touch: the contact zone widened by half its extent
+/// on each side (at least 2% of the surface's), and out to the nearest
+/// candidate beyond each end, so that the pressure's fall to zero shows;
+/// within the candidates' extent. None (the whole surface) when nothing
+/// touches, or when the zoom would still show more than 70% of it.
+pub fn contact_zoom(x: &[f64], in_contact: &[bool]) -> Option<Range<f64>> {
+    let finite = || x.iter().copied().filter(|v| v.is_finite());
+    let (lo, hi) = bounds(finite().collect::<Vec<_>>().iter())?;
+    let touching = x
+        .iter()
+        .zip(in_contact)
+        .filter(|(v, &c)| c && v.is_finite())
+        .map(|(v, _)| v);
+    let (c_lo, c_hi) = bounds(touching)?;
+    let margin = (0.5 * (c_hi - c_lo)).max(0.02 * (hi - lo));
+    let below = finite()
+        .filter(|&v| v < c_lo)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let above = finite().filter(|&v| v > c_hi).fold(f64::INFINITY, f64::min);
+    let z_lo = (c_lo - margin).min(below).max(lo);
+    let z_hi = (c_hi + margin).max(above).min(hi);
+    (z_hi - z_lo <= 0.7 * (hi - lo)).then_some(z_lo..z_hi)
+}
+
+/// A line through points sorted by `x` becomes runs that do not join what
+/// is not joined: a NaN (a break, see [`Series`]) goes between two
+/// neighbours of different `group`s, and across a gap more than 4 times
+/// the wider of the spacings on either side of it (a hole in the surface).
+pub fn break_lines(x: &[f64], y: &[f64], group: &[usize]) -> (Vec<f64>, Vec<f64>) {
+    let n = x.len().min(y.len());
+    let dx: Vec<f64> = (1..n).map(|i| x[i] - x[i - 1]).collect();
+    // The nearest positive spacing before and after each gap.
+    let before = |j: usize| dx[..j].iter().rev().copied().find(|d| *d > 0.0);
+    let after = |j: usize| dx[j + 1..].iter().copied().find(|d| *d > 0.0);
+    let (mut bx, mut by) = (Vec::with_capacity(n + 4), Vec::with_capacity(n + 4));
+    for i in 0..n {
+        if i > 0 {
+            let j = i - 1;
+            let other_group = group.get(i) != group.get(j);
+            let neighbours = match (before(j), after(j)) {
+                (Some(a), Some(b)) => Some(a.max(b)),
+                (a, b) => a.or(b),
+            };
+            let hole = neighbours.is_some_and(|h| dx[j] > 4.0 * h);
+            if other_group || hole {
+                bx.push(f64::NAN);
+                by.push(f64::NAN);
+            }
+        }
+        bx.push(x[i]);
+        by.push(y[i]);
+    }
+    (bx, by)
 }
 
 /// Colours (the "tab10" palette), by series index.
@@ -333,6 +590,7 @@ fn render(
     y_label: &str,
     series: &[Series],
     log_y: bool,
+    axes: &Axes,
 ) -> Result<Vec<u8>, String> {
     let font = load_font()?;
     // plotters may panic on corner cases it does not expect; a plot is never
@@ -345,7 +603,7 @@ fn render(
                 font,
             };
             let root = canvas.into_drawing_area();
-            draw(&root, font, title, x_label, y_label, series, log_y)?;
+            draw(&root, font, title, x_label, y_label, series, log_y, axes)?;
             root.present().map_err(|e| e.to_string())?;
         }
         Ok::<_, String>(buf)
@@ -354,6 +612,7 @@ fn render(
     encode_png(&drawn, WIDTH, HEIGHT)
 }
 
+#[allow(clippy::too_many_arguments)]
 fn draw(
     root: &DrawingArea<Canvas, Shift>,
     font: &FontRef<'static>,
@@ -362,18 +621,36 @@ fn draw(
     y_label: &str,
     series: &[Series],
     log_y: bool,
+    axes: &Axes,
 ) -> Result<(), String> {
     let e = |e: DrawingAreaErrorKind<_>| e.to_string();
     root.fill(&WHITE).map_err(e)?;
 
-    let mut cleaned: Vec<Clean> = series.iter().map(|s| clean(s, log_y, 0.0)).collect();
+    // A given x range, padded as the data's would be; the data cut to it.
+    let given_x = axes
+        .x_range
+        .as_ref()
+        .filter(|r| r.start.is_finite() && r.end.is_finite() && r.start <= r.end)
+        .map(|r| axis_range(Some((r.start, r.end)), false, 0.02, 0.02));
+    let prepare = |floor: f64| -> Vec<Clean> {
+        series
+            .iter()
+            .map(|s| {
+                let c = clean(s, log_y, floor);
+                match &given_x {
+                    Some(r) => clip_x(c, r, matches!(s.style, Style::Line | Style::DashedLine)),
+                    None => c,
+                }
+            })
+            .collect()
+    };
+    let mut cleaned = prepare(0.0);
     if log_y {
         // Keep at most MAX_DECADES below the largest value.
         let points = cleaned.iter().flat_map(|c| c.runs.iter().flatten());
         if let Some((lo, hi)) = bounds(points.map(|p| &p.1)) {
             if hi.log10() - lo.log10() > MAX_DECADES {
-                let floor = hi / 10f64.powf(MAX_DECADES);
-                cleaned = series.iter().map(|s| clean(s, log_y, floor)).collect();
+                cleaned = prepare(hi / 10f64.powf(MAX_DECADES));
             }
         }
     }
@@ -381,8 +658,8 @@ fn draw(
     let has_data = all().next().is_some();
     let xb = bounds(all().map(|p| &p.0));
     let yb = bounds(all().map(|p| &p.1));
-    let x_range = axis_range(xb, false, 0.02, 0.02);
-    let mut y_range = axis_range(yb, log_y, 0.04, 0.08);
+    let x_range = given_x.unwrap_or_else(|| axis_range(xb, false, 0.02, 0.02));
+    let mut y_range = y_axis_range(yb, log_y, axes.y_from_zero);
 
     // Legend size in unit coordinates of the plotting area (estimated).
     let labelled: Vec<usize> = (0..series.len())
@@ -533,6 +810,17 @@ where
         };
         let fill = color.filled();
         let points = || c.runs.iter().flatten().map(|&p| Circle::new(p, 4, fill));
+        let ring = ShapeStyle {
+            color: color.to_rgba(),
+            filled: false,
+            stroke_width: 2,
+        };
+        let rings = || {
+            c.runs
+                .iter()
+                .flatten()
+                .map(move |&p| Circle::new(p, 6, ring))
+        };
         // A line through one point (or one repeated point) would not
         // show: mark it.
         let is_dot = |r: &Vec<(f64, f64)>| r.iter().all(|p| *p == r[0]);
@@ -544,6 +832,7 @@ where
         };
         let anno = match s.style {
             Style::Points => chart.draw_series(points()).map_err(e)?,
+            Style::Rings => chart.draw_series(rings()).map_err(e)?,
             Style::Line => {
                 chart.draw_series(lone()).map_err(e)?;
                 chart
@@ -574,6 +863,9 @@ where
         match s.style {
             Style::Points => {
                 anno.legend(move |(x, y)| Circle::new((x + 15, y), 5, fill));
+            }
+            Style::Rings => {
+                anno.legend(move |(x, y)| Circle::new((x + 15, y), 6, ring));
             }
             Style::Line => {
                 anno.legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 30, y)], line));
@@ -709,12 +1001,25 @@ impl DrawingBackend for Canvas<'_> {
     ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
         self.inner.draw_rect(upper_left, bottom_right, style, fill)
     }
+    /// A thick polyline segment by segment, with round joins: the backend's
+    /// mitred joins shoot spikes (past the axes) where the line turns back.
     fn draw_path<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
         &mut self,
         path: I,
         style: &S,
     ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
-        self.inner.draw_path(path, style)
+        let points: Vec<BackendCoord> = path.into_iter().collect();
+        let width = style.stroke_width();
+        if width <= 1 || points.len() <= 2 {
+            return self.inner.draw_path(points, style);
+        }
+        for w in points.windows(2) {
+            self.inner.draw_path(w.iter().copied(), style)?;
+        }
+        for &p in &points[1..points.len() - 1] {
+            self.inner.draw_circle(p, width / 2, style, true)?;
+        }
+        Ok(())
     }
     fn draw_circle<S: BackendStyle>(
         &mut self,
@@ -1193,6 +1498,104 @@ mod tests {
             "{e}"
         );
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// The lowest row with a coloured pixel in a PNG file.
+    fn lowest_coloured_row(path: &Path) -> usize {
+        let (w, _, rgb) = decode(path);
+        rgb.chunks(3)
+            .enumerate()
+            .filter(|(_, p)| {
+                let (mx, mn) = (p.iter().max(), p.iter().min());
+                matches!((mx, mn), (Some(a), Some(b)) if a - b > 60)
+            })
+            .map(|(i, _)| i / w as usize)
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// A line that turns back sharply (a zig-zag through scattered nodes)
+    /// stays where its points are: no spike below its lowest value, past
+    /// the axis (the bitmap backend's joins of nearly parallel legs reached
+    /// 100 px below it, into the tick labels).
+    #[test]
+    fn sharp_turns_do_not_spike() {
+        let dir = temp_dir("spike");
+        // Nodes 2 px apart, alternately at 0 and 1: the legs of each turn
+        // nearly parallel (the bound s at scattered 3D nodes).
+        // Scattered nodes (a 3D bound against the distance): close in x,
+        // scattered in y, the legs of each turn nearly parallel.
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut x: Vec<f64> = (0..300).map(|_| 0.6 * next()).collect();
+        x.sort_by(f64::total_cmp);
+        let mut y: Vec<f64> = x
+            .iter()
+            .map(|&v| (40.0 * (1.0 - v / 0.6) + 10.0 * (next() - 0.5)).max(0.0))
+            .collect();
+        x.extend([1.0, 3.0]);
+        y.extend([0.0, 0.0]);
+        let mut lowest = Vec::new();
+        for (name, style) in [("points", Style::Points), ("line", Style::Line)] {
+            let path = dir.join(format!("{name}.png"));
+            let series = [Series {
+                label: "",
+                x: &x,
+                y: &y,
+                style,
+            }];
+            plot_lines(&path, name, "x", "y", &series, false).expect("plot");
+            lowest.push(lowest_coloured_row(&path));
+        }
+        // A dot reaches 4 px below its centre, a 3 px line 1-2 px.
+        assert!(
+            lowest[1] <= lowest[0],
+            "line {} vs points {}",
+            lowest[1],
+            lowest[0]
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A given x range cuts lines at its border and drops points outside.
+    #[test]
+    fn clipping_to_an_x_range() {
+        let c = Clean {
+            runs: vec![vec![(0.0, 0.0), (2.0, 2.0), (4.0, 0.0), (6.0, 2.0)]],
+        };
+        let line = clip_x(
+            Clean {
+                runs: c.runs.clone(),
+            },
+            &(1.0..5.0),
+            true,
+        );
+        assert_eq!(
+            line.runs,
+            vec![vec![(1.0, 1.0), (2.0, 2.0), (4.0, 0.0), (5.0, 1.0)]]
+        );
+        let points = clip_x(c, &(1.0..5.0), false);
+        assert_eq!(points.runs, vec![vec![(2.0, 2.0), (4.0, 0.0)]]);
+        // A segment across the whole range, and one that leaves and comes back.
+        let across = Clean {
+            runs: vec![vec![(0.0, 0.0), (10.0, 10.0)]],
+        };
+        assert_eq!(
+            clip_x(across, &(2.0..3.0), true).runs,
+            vec![vec![(2.0, 2.0), (3.0, 3.0)]]
+        );
+        let back = Clean {
+            runs: vec![vec![(0.0, 0.0), (2.0, 0.0), (0.0, 1.0)]],
+        };
+        assert_eq!(
+            clip_x(back, &(-1.0..1.0), true).runs,
+            vec![vec![(0.0, 0.0), (1.0, 0.0)], vec![(1.0, 0.5), (0.0, 1.0)]]
+        );
     }
 
     #[test]

@@ -12,6 +12,37 @@ fn vector(v: &[f64]) -> String {
     format!("({})", parts.join(", "))
 }
 
+/// A computed value to `digits` significant digits: plain from 0.1 to
+/// 1e5 (364.12, 2.7169), scientific outside (2.4330e-3, 1.4490e9).
+pub fn significant(x: f64, digits: usize) -> String {
+    let digits = digits.max(1);
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    // The exponent after rounding (9.99996 to 5 digits is 10.000).
+    let e = format!("{:.*e}", digits - 1, x);
+    let exp: i32 = e
+        .split_once('e')
+        .and_then(|(_, e)| e.parse().ok())
+        .unwrap_or(0);
+    if (-1..5).contains(&exp) {
+        let decimals = (digits as i32 - 1 - exp).max(0) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        e
+    }
+}
+
+/// A value the user gave (E, nu, r): as given, in its shortest form, with
+/// an exponent when large or small (2000, 0.3, 2.1e11, 1e-6).
+pub fn given(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-3..1e5).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 fn verdict(converged: bool) -> &'static str {
     if converged {
         "converged"
@@ -34,8 +65,16 @@ pub fn print(m: &Results) {
             100.0 * h.error_rel
         );
         println!(
-            "                  peak pressure {:.4} vs Hertz p0 {:.4}; contact half-width {:.4} vs Hertz {:.4}",
-            h.peak, h.peak_hertz, h.half_width, h.half_width_hertz
+            "                  peak pressure {} vs Hertz p0 {}; contact {} {} vs Hertz {}",
+            significant(h.peak, 5),
+            significant(h.peak_hertz, 5),
+            if m.local.dim == 3 {
+                "radius"
+            } else {
+                "half-width"
+            },
+            significant(h.half_width, 5),
+            significant(h.half_width_hertz, 5)
         );
     }
     let t = &m.times;
@@ -66,8 +105,8 @@ fn header(m: &Results) {
     );
     println!(
         "  material        E = {}, nu = {}, {}",
-        s.young,
-        s.nu,
+        given(s.young),
+        given(s.nu),
         if local.dim == 3 {
             "3D"
         } else if s.plane_stress {
@@ -77,7 +116,7 @@ fn header(m: &Results) {
         }
     );
     if s.friction != crate::options::Friction::None {
-        println!("  friction        nu_f = {}", s.friction_coefficient);
+        println!("  friction        nu_f = {}", given(s.friction_coefficient));
     }
     println!("  linear solver   {}", m.problem.lin.description);
 }
@@ -118,11 +157,11 @@ fn algorithm(m: &Results) {
             m.state.inner_iterations.iter().sum::<usize>()
         );
     } else if res.name == "SSN-C" {
-        let shift: Vec<String> = s.ssn_initial_shift.iter().map(|v| v.to_string()).collect();
+        let shift: Vec<String> = s.ssn_initial_shift.iter().map(|&v| given(v)).collect();
         println!(
             "  r (SSN-C)       {} (r/E = {}), initial guess ({})",
-            s.ssn_r,
-            s.ssn_r / s.young,
+            given(s.ssn_r),
+            significant(s.ssn_r / s.young, 5),
             if shift.is_empty() {
                 "0".to_string()
             } else {
@@ -141,21 +180,26 @@ fn algorithm(m: &Results) {
     } else {
         let r = m.problem.r();
         println!(
-            "  r               {:.6e} (r/E = {:.4}; {})",
+            "  r               {:.6e} (r/E = {}; {})",
             r,
-            r / s.young,
+            significant(r / s.young, 5),
             r_source(m.choice)
         );
         if let Some(rho) = s.ubr.rho {
-            println!("  rho             {rho} (-ubr_rho)");
+            println!("  rho             {} (-ubr_rho)", given(rho));
         }
         if s.ubr.anderson > 0 {
             println!(
-                "  Anderson        memory {} (safeguarded type II on z = lambda + r B u): {} of {} evaluations extrapolated, {} rejected",
+                "  Anderson        memory {} (safeguarded type II on z = lambda + r B u): {} of {} evaluations extrapolated, {} rejected{}",
                 s.ubr.anderson,
                 res.last.anderson_steps,
                 res.last.iterations,
-                res.last.anderson_rejected
+                res.last.anderson_rejected,
+                if res.fixed_point_iterations > 0 {
+                    " (the last Tresca solve)"
+                } else {
+                    ""
+                }
             );
         } else {
             println!("  Anderson        off (-ubr_anderson 0: the paper's plain iteration)");
@@ -172,13 +216,19 @@ fn iterations(m: &Results) {
         );
     }
     if res.fixed_point_iterations > 0 {
+        // The target of the change of s is the paper's test; the accuracy
+        // test bounds the error of lambda instead (the next line).
+        let target = if s.ubr.stop == StopRule::Paper {
+            format!(", target {:.1e}", s.ubr.fp_rtol)
+        } else {
+            String::new()
+        };
         println!(
-            "  fixed point     {} iterations, {} Tresca iterations in total, {} (change of s {:.3e}, target {:.1e})",
+            "  fixed point     {} iterations, {} Tresca iterations in total, {} (relative change of s {:.3e}{target})",
             res.fixed_point_iterations,
             res.iterations,
             verdict(res.converged),
             res.fp_change.unwrap_or(f64::NAN),
-            s.ubr.fp_rtol
         );
     }
     if !res.is_comparator() {
@@ -225,6 +275,17 @@ fn contact(m: &Results) {
         println!(
             "  contact         {} nodes in contact, total contact force {:.10e}",
             t.in_contact, t.force
+        );
+    }
+    let groups = m.group_forces();
+    if groups.len() > 1 {
+        let parts: Vec<String> = groups
+            .iter()
+            .map(|(name, f)| format!("{name} {f:.6e}"))
+            .collect();
+        println!(
+            "                  contact force by surface: {}",
+            parts.join(", ")
         );
     }
 }
