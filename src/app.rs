@@ -97,6 +97,13 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                 eprintln!("{note}");
             }
         }
+        // The warnings among the notes (options without effect, typos)
+        // belong in the report too.
+        let warnings = settings
+            .notes
+            .iter()
+            .filter_map(|n| n.strip_prefix("warning: ").map(str::to_string))
+            .collect();
         Ok(ContactProblem {
             world,
             root,
@@ -105,7 +112,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             events: Events::register()?,
             start,
             times: Times::default(),
-            warnings: Vec::new(),
+            warnings,
             touched: false,
         })
     }
