@@ -34,6 +34,7 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
             return Ok(());
         }
     }
+    reserve_blas_workspace(world)?;
     let mut unused = Unused::default();
     let mut problem = match ContactProblem::new(world) {
         Ok(problem) => problem,
@@ -50,6 +51,32 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
         Err(_) => unused.undeclared(root)?,
     }
     outcome
+}
+
+/// OpenBLAS' work space, mapped at start-up on every rank
+/// ([`crate::dense::reserve_blas_workspace`]): a memory limit too small for
+/// it is named now, collectively, instead of a rank spinning in OpenBLAS
+/// (which retries a failed mapping for ever) while the others wait for it
+/// in MUMPS.
+fn reserve_blas_workspace<C: Communicator>(world: &C) -> Result<(), Error> {
+    let failed = crate::dense::reserve_blas_workspace().err();
+    let size = world.size();
+    // The lowest failing rank r as size - r (0: none failed).
+    let mine = if failed.is_some() {
+        size - world.rank()
+    } else {
+        0
+    };
+    let worst = allreduce_max(world, mine as f64) as i32;
+    if worst == 0 {
+        return Ok(());
+    }
+    let bytes = failed.unwrap_or(crate::dense::OPENBLAS_BUFFER);
+    let first = size - worst;
+    Err(Error::OutOfMemory(format!(
+        "rank {first} cannot map OpenBLAS' {} MiB work space at start-up: a memory limit (ulimit -v, the batch system's) leaves less than that to the whole run",
+        bytes >> 20
+    )))
 }
 
 /// The scene and the state of the run between its steps.

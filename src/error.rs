@@ -1,6 +1,10 @@
 //! The one error type of the program, a variant per kind of failure, and its
 //! exit status (DESIGN.md): 2 bad input or an ill-posed scene, 3 not
-//! converged, anything else a bug. `main` prints it once.
+//! converged, 4 out of memory, anything else a bug. `main` prints it once.
+//!
+//! A Rust allocation that fails ends the run here too ([`OutOfMemory`], the
+//! program's global allocator): one line naming the rank and the size, then
+//! `MPI_Abort` with exit status 4, which ends every rank.
 
 /// Every way a run can fail.
 #[derive(Debug, thiserror::Error)]
@@ -29,20 +33,49 @@ pub enum Error {
     /// A linear solve failed (e.g. a failed factorization). Exit status 3.
     #[error("error: {0}")]
     LinearSolver(String),
-    /// PETSc reported an error. Exit status 1 (a bug, or the machine).
-    #[error("PETSc error: {message}")]
+    /// Memory ran out (an allocation failed in MUMPS, in PETSc, in OpenBLAS'
+    /// work space or in ours): the run needs more memory than a rank may
+    /// use. Exit status 4: neither bad input nor a method that did not
+    /// converge; the same run succeeds with more memory or more ranks.
+    #[error("error: out of memory: {0}")]
+    OutOfMemory(String),
+    /// PETSc reported an error. Exit status 1 (a bug, or the machine); 4,
+    /// and a message that says so, when an allocation failed
+    /// ([`Error::is_out_of_memory`]).
+    #[error("{}", petsc_message(*code, message))]
     Petsc { code: i32, message: String },
     /// Anything else that is our fault. Exit status 1.
     #[error("internal error: {0}")]
     Internal(String),
 }
 
+/// The exit status of a run that ran out of memory.
+pub const EXIT_OUT_OF_MEMORY: i32 = 4;
+
+/// PETSc's error code for a failed allocation (`PETSC_ERR_MEM`).
+const PETSC_ERR_MEM: i32 = 55;
+
 impl Error {
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::BadInput(_) | Error::Mesh(_) | Error::Output { .. } | Error::IllPosed(_) => 2,
             Error::NotConverged(_) | Error::LinearSolver(_) => 3,
+            Error::OutOfMemory(_) => EXIT_OUT_OF_MEMORY,
+            Error::Petsc { .. } if self.is_out_of_memory() => EXIT_OUT_OF_MEMORY,
             Error::Petsc { .. } | Error::Internal(_) => 1,
+        }
+    }
+
+    /// Whether memory ran out: [`Error::OutOfMemory`], or PETSc's error for
+    /// a failed allocation. PETSc 3.18's `PetscMallocAlign` raises it with
+    /// its arguments out of order (the caller's line as the error code, its
+    /// function's name as the message), so it is known by where it was
+    /// raised, as well as by `PETSC_ERR_MEM`.
+    pub fn is_out_of_memory(&self) -> bool {
+        match self {
+            Error::OutOfMemory(_) => true,
+            Error::Petsc { code, message } => petsc_out_of_memory(*code, message),
+            _ => false,
         }
     }
 
@@ -57,6 +90,7 @@ impl Error {
                 | Error::IllPosed(_)
                 | Error::NotConverged(_)
                 | Error::LinearSolver(_)
+                | Error::OutOfMemory(_)
         )
     }
 
@@ -70,7 +104,118 @@ impl Error {
     }
 }
 
+fn petsc_out_of_memory(code: i32, message: &str) -> bool {
+    code == PETSC_ERR_MEM || message.contains(" in PetscMallocAlign() at ")
+}
+
+/// The message of [`Error::Petsc`].
+fn petsc_message(code: i32, message: &str) -> String {
+    if petsc_out_of_memory(code, message) {
+        format!("error: out of memory: PETSc could not allocate: {message}; the run needs more memory than a rank may use, or more ranks")
+    } else {
+        format!("PETSc error: {message}")
+    }
+}
+
 /// Shorthand for a bad-input error.
 pub fn bad<T>(msg: impl Into<String>) -> Result<T, Error> {
     Err(Error::BadInput(msg.into()))
+}
+
+/// The program's global allocator: the system's, except that an allocation
+/// it cannot make ends the run at once with one line on stderr naming the
+/// rank and the size, and exit status 4 on every rank (`MPI_Abort`; before
+/// MPI starts or after it ends, `_exit(4)`). Without it Rust's default
+/// handler prints "memory allocation of N bytes failed" and aborts the
+/// process (signal 6, a stack trace under `RUST_BACKTRACE`, and mpirun's
+/// notice of a signal). The line is formatted on the stack: nothing is
+/// allocated on the way out. (A fallible `try_reserve` would end the run
+/// too; the program makes none that it could recover from.)
+pub struct OutOfMemory;
+
+#[global_allocator]
+static ALLOCATOR: OutOfMemory = OutOfMemory;
+
+unsafe impl std::alloc::GlobalAlloc for OutOfMemory {
+    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
+        let p = std::alloc::System.alloc(layout);
+        if p.is_null() {
+            out_of_memory(layout.size());
+        }
+        p
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: std::alloc::Layout) -> *mut u8 {
+        let p = std::alloc::System.alloc_zeroed(layout);
+        if p.is_null() {
+            out_of_memory(layout.size());
+        }
+        p
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
+        std::alloc::System.dealloc(ptr, layout)
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, new_size: usize) -> *mut u8 {
+        let p = std::alloc::System.realloc(ptr, layout, new_size);
+        if p.is_null() {
+            out_of_memory(new_size);
+        }
+        p
+    }
+}
+
+/// A fixed buffer that `write!` fills without allocating (the rest is cut).
+struct StackLine {
+    buf: [u8; 320],
+    len: usize,
+}
+
+impl std::fmt::Write for StackLine {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        let n = s.len().min(self.buf.len() - self.len);
+        self.buf[self.len..self.len + n].copy_from_slice(&s.as_bytes()[..n]);
+        self.len += n;
+        Ok(())
+    }
+}
+
+/// The end of a run that ran out of memory (see [`OutOfMemory`]).
+#[cold]
+fn out_of_memory(bytes: usize) -> ! {
+    use std::fmt::Write as _;
+    use std::io::Write as _;
+    extern "C" {
+        fn _exit(status: std::os::raw::c_int) -> !;
+    }
+    let (mut init, mut fin, mut rank) = (0, 0, -1);
+    unsafe {
+        mpi::ffi::MPI_Initialized(&mut init);
+        mpi::ffi::MPI_Finalized(&mut fin);
+        if init != 0 && fin == 0 {
+            mpi::ffi::MPI_Comm_rank(mpi::ffi::RSMPI_COMM_WORLD, &mut rank);
+        }
+    }
+    let mut line = StackLine {
+        buf: [0; 320],
+        len: 0,
+    };
+    let _ = if rank >= 0 {
+        write!(line, "error: out of memory: rank {rank} could not allocate")
+    } else {
+        write!(line, "error: out of memory: could not allocate")
+    };
+    let _ = writeln!(
+        line,
+        " {:.1} MiB; the run needs more memory than a rank may use (a memory limit: ulimit -v, the batch system's), or more ranks",
+        bytes as f64 / (1u64 << 20) as f64
+    );
+    let _ = std::io::stderr().write_all(&line.buf[..line.len]);
+    unsafe {
+        if init != 0 && fin == 0 {
+            mpi::ffi::MPI_Abort(mpi::ffi::RSMPI_COMM_WORLD, EXIT_OUT_OF_MEMORY);
+        }
+        _exit(EXIT_OUT_OF_MEMORY)
+    }
 }

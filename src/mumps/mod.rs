@@ -102,6 +102,11 @@ impl Mumps {
 
     fn check(&self, phase: &str) -> Result<(), Error> {
         let code = self.id.infog[0];
+        if matches!(code, -5 | -7 | -13) {
+            // INFOG(1) is the same on every rank (MUMPS ends a phase
+            // collectively): so is this error.
+            return Err(Error::OutOfMemory(self.memory_failure(phase, code)));
+        }
         if code < 0 {
             return Err(Error::LinearSolver(format!(
                 "MUMPS {phase} failed: INFOG(1) = {code}, {}",
@@ -109,6 +114,29 @@ impl Mumps {
             )));
         }
         Ok(())
+    }
+
+    /// The message of a failed allocation (INFOG(1) = -5, -7, -13): what
+    /// MUMPS could not allocate (INFOG(2) entries, real ones or integers
+    /// (-7), or millions of them when negative) and what its analysis
+    /// predicted the factorization needs (INFOG(16), INFOG(17): MB per rank
+    /// at most, in all).
+    fn memory_failure(&self, phase: &str, code: i32) -> String {
+        let info2 = self.id.infog[1] as f64;
+        let entries = if info2 < 0.0 { -info2 * 1e6 } else { info2 };
+        let bytes = if code == -7 { 4.0 } else { 8.0 };
+        let mut msg = format!(
+            "MUMPS {phase} could not allocate {:.1} MiB on one rank (INFOG(1) = {code})",
+            entries * bytes / (1u64 << 20) as f64
+        );
+        let (per_rank, total) = (self.id.infog[15], self.id.infog[16]);
+        if per_rank > 0 {
+            msg.push_str(&format!(
+                "; its analysis predicted {per_rank} MB on the largest rank, {total} MB in all"
+            ));
+        }
+        msg.push_str("; give each rank more memory, or use more ranks");
+        msg
     }
 
     /// INFOG(1) of the last call.

@@ -137,10 +137,30 @@ fn metis_order<C: Communicator>(
     }
     let layout = Layout::new(world, flat.len());
     let all = layout.gather(world, &flat);
-    if world.rank() != 0 {
-        return Ok(Vec::new());
-    }
-    let n = mesh.global_nodes;
+    drop(flat);
+    let order = if world.rank() == 0 {
+        host_order(&all, mesh.global_nodes, d, schur_nodes, comps)
+    } else {
+        Ok(Vec::new())
+    };
+    // METIS runs on the host alone: its failure is made collective.
+    let (verdict, order) = match order {
+        Ok(order) => (None, order),
+        Err(e) => (Some(e), Vec::new()),
+    };
+    host_verdict(world, verdict)?;
+    Ok(order)
+}
+
+/// [`metis_order`] on the host, from the gathered lists `all` (node,
+/// count, neighbours...).
+fn host_order(
+    all: &[f64],
+    n: usize,
+    d: usize,
+    schur_nodes: &[usize],
+    comps: &[usize],
+) -> Result<Vec<i32>, Error> {
     let mut xadj: Vec<i32> = vec![0; n + 1];
     let mut lists: Vec<Vec<i32>> = vec![Vec::new(); n];
     let mut p = 0;
@@ -171,6 +191,11 @@ fn metis_order<C: Communicator>(
                 perm.as_mut_ptr(),
                 iperm.as_mut_ptr(),
             );
+            if r == metis_sys::rstatus_et_METIS_ERROR_MEMORY {
+                return Err(Error::OutOfMemory(format!(
+                    "METIS could not allocate the nested-dissection ordering of {n} nodes on rank 0"
+                )));
+            }
             if r != metis_sys::rstatus_et_METIS_OK {
                 return Err(Error::Internal(format!("METIS_NodeND failed ({r})")));
             }
@@ -277,15 +302,29 @@ fn choose_ordering<C: Communicator>(
 }
 
 /// A failure found on the host only (`failed` is read there), made
-/// collective: every rank returns the same error, none waits in a later
-/// collective call.
-fn host_verdict<C: Communicator>(world: &C, failed: bool, what: &str) -> Result<(), Error> {
-    let mut status = if failed { 1.0f64 } else { 0.0 };
+/// collective: every rank returns an error of the same kind (the host's
+/// own, with its message; the others' one of that kind, whose message
+/// nobody prints: only rank 0 prints a collective error), none waits in a
+/// later collective call.
+fn host_verdict<C: Communicator>(world: &C, failed: Option<Error>) -> Result<(), Error> {
+    // The kind, as the exit status of the error (0: none failed).
+    let mut status = failed.as_ref().map_or(0, |e| e.exit_code());
     world.process_at_rank(0).broadcast_into(&mut status);
-    if status != 0.0 {
-        return Err(Error::LinearSolver(what.into()));
+    match (status, failed) {
+        (0, _) => Ok(()),
+        (_, Some(e)) => Err(e),
+        (s, None) if s == crate::error::EXIT_OUT_OF_MEMORY => {
+            Err(Error::OutOfMemory("on rank 0".into()))
+        }
+        (3, None) => Err(Error::LinearSolver("on rank 0".into())),
+        (_, None) => Err(Error::Internal("on rank 0".into())),
     }
-    Ok(())
+}
+
+/// [`host_verdict`] of a dense failure of the host (`failed`): the
+/// linear-solver error `what`.
+fn host_failed<C: Communicator>(world: &C, failed: bool, what: &str) -> Result<(), Error> {
+    host_verdict(world, failed.then(|| Error::LinearSolver(what.into())))
 }
 
 impl Direct {
@@ -376,7 +415,7 @@ impl Direct {
                     Err(_) => status = 1.0,
                 }
             }
-            host_verdict(
+            host_failed(
                 world,
                 status != 0.0,
                 "the dense factorization of the Schur complement failed",
@@ -495,7 +534,7 @@ impl Direct {
                         red[j * m..(j + 1) * m].copy_from_slice(&sp.sol);
                     }
                 }
-                host_verdict(world, status != 0.0, "the dense Schur solve failed")?;
+                host_failed(world, status != 0.0, "the dense Schur solve failed")?;
                 self.mumps.solve(&mut all, k, 2)?;
             }
         }
@@ -542,7 +581,7 @@ impl Direct {
             s.solve(&self.mumps.redrhs_mut()[..sp.m], &mut sp.sol)
                 .is_err()
         };
-        host_verdict(world, failed, "the dense Schur solve failed")?;
+        host_failed(world, failed, "the dense Schur solve failed")?;
         sp.layout.scatter(world, &sp.sol, x);
         Ok(())
     }
@@ -611,7 +650,7 @@ impl Direct {
             .expect("the host has S");
             s.solve(&sp.rhs, &mut sp.sol).is_err()
         };
-        host_verdict(world, failed, "the dense Schur solve failed")?;
+        host_failed(world, failed, "the dense Schur solve failed")?;
         sp.layout.scatter(world, &sp.sol, x);
         Ok(())
     }
@@ -666,7 +705,7 @@ impl Direct {
                 status = 1.0;
             }
         }
-        host_verdict(
+        host_failed(
             world,
             status != 0.0,
             "the factorization of the shifted Schur complement failed",
@@ -716,7 +755,7 @@ impl Direct {
                     Err(_) => status = 1.0,
                 }
             }
-            host_verdict(
+            host_failed(
                 world,
                 status != 0.0,
                 "the dense factorization of the Schur complement failed",
