@@ -7,7 +7,7 @@
 //! `MPI_Abort` with exit status 4, which ends every rank.
 
 /// Every way a run can fail.
-#[derive(Debug, thiserror::Error)]
+#[derive(Clone, Debug, thiserror::Error)]
 pub enum Error {
     /// An option, or a file an option names, is wrong. Exit status 2.
     #[error("error: {0}")]
@@ -91,6 +91,45 @@ impl Error {
                 | Error::NotConverged(_)
                 | Error::LinearSolver(_)
                 | Error::OutOfMemory(_)
+        )
+    }
+
+    /// The same error with `note` appended to its message (a hint that
+    /// the place where it was found cannot give).
+    pub fn with_note(self, note: &str) -> Error {
+        let add = |m: String| format!("{m}; {note}");
+        match self {
+            Error::BadInput(m) => Error::BadInput(add(m)),
+            Error::Mesh(m) => Error::Mesh(add(m)),
+            Error::IllPosed(m) => Error::IllPosed(add(m)),
+            Error::NotConverged(m) => Error::NotConverged(add(m)),
+            Error::LinearSolver(m) => Error::LinearSolver(add(m)),
+            Error::OutOfMemory(m) => Error::OutOfMemory(add(m)),
+            Error::Internal(m) => Error::Internal(add(m)),
+            Error::Petsc { code, message } => Error::Petsc {
+                code,
+                message: add(message),
+            },
+            Error::Output {
+                option,
+                path,
+                reason,
+            } => Error::Output {
+                option,
+                path,
+                reason: add(reason),
+            },
+        }
+    }
+
+    /// Whether the run reports this error as its outcome, after writing its
+    /// outputs, when it comes after the assembly: the method did not
+    /// converge, a linear solve failed, or memory ran out in a collective
+    /// step (every rank has it, so every rank goes on to the outputs).
+    pub fn is_outcome(&self) -> bool {
+        matches!(
+            self,
+            Error::NotConverged(_) | Error::LinearSolver(_) | Error::OutOfMemory(_)
         )
     }
 

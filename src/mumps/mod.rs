@@ -102,7 +102,7 @@ impl Mumps {
 
     fn check(&self, phase: &str) -> Result<(), Error> {
         let code = self.id.infog[0];
-        if matches!(code, -5 | -7 | -13) {
+        if matches!(code, -5 | -7 | -13 | -19) {
             // INFOG(1) is the same on every rank (MUMPS ends a phase
             // collectively): so is this error.
             return Err(Error::OutOfMemory(self.memory_failure(phase, code)));
@@ -116,8 +116,9 @@ impl Mumps {
         Ok(())
     }
 
-    /// The message of a failed allocation (INFOG(1) = -5, -7, -13): what
-    /// MUMPS could not allocate (INFOG(2) entries, real ones or integers
+    /// The message of a failed allocation (INFOG(1) = -5, -7, -13), or of
+    /// a factorization that needs more than ICNTL(23) MB (-19): what MUMPS
+    /// could not allocate or lacks (INFOG(2) entries, real ones or integers
     /// (-7), or millions of them when negative) and what its analysis
     /// predicted the factorization needs (INFOG(16), INFOG(17): MB per rank
     /// at most, in all).
@@ -125,10 +126,15 @@ impl Mumps {
         let info2 = self.id.infog[1] as f64;
         let entries = if info2 < 0.0 { -info2 * 1e6 } else { info2 };
         let bytes = if code == -7 { 4.0 } else { 8.0 };
-        let mut msg = format!(
-            "MUMPS {phase} could not allocate {:.1} MiB on one rank (INFOG(1) = {code})",
-            entries * bytes / (1u64 << 20) as f64
-        );
+        let mib = entries * bytes / (1u64 << 20) as f64;
+        let mut msg = if code == -19 {
+            format!(
+                "MUMPS {phase} needs {mib:.1} MiB more on one rank than the {} MB a rank may use (ICNTL(23), -mat_mumps_icntl_23; INFOG(1) = -19)",
+                icntl!(self.id, 23)
+            )
+        } else {
+            format!("MUMPS {phase} could not allocate {mib:.1} MiB on one rank (INFOG(1) = {code})")
+        };
         let (per_rank, total) = (self.id.infog[15], self.id.infog[16]);
         if per_rank > 0 {
             msg.push_str(&format!(

@@ -84,6 +84,9 @@ pub struct Direct {
     /// whose forward elimination MUMPS keeps for an expansion
     /// ([`Direct::expand`]); 0 after any other solve or a refactorization.
     reduced: usize,
+    /// Why the factorization failed ([`Direct::failed`]): every solve
+    /// returns it.
+    failure: Option<Error>,
 }
 
 /// Rows, columns (1-based) and values of matrix entries.
@@ -327,6 +330,26 @@ fn host_failed<C: Communicator>(world: &C, failed: bool, what: &str) -> Result<(
     host_verdict(world, failed.then(|| Error::LinearSolver(what.into())))
 }
 
+/// The host's Schur complement as MUMPS returned it, its dense Cholesky
+/// factor, and the host's error when the factorization fails (a matrix
+/// that is not positive definite: `K_r` singular or nearly so).
+fn schur_factor<C: Communicator>(
+    world: &C,
+    mumps: &Mumps,
+    m: usize,
+) -> (Vec<f64>, Option<SpdFactor>, Option<Error>) {
+    if world.rank() != 0 {
+        return (Vec::new(), None, None);
+    }
+    let s_raw = mumps.schur_upper().to_vec();
+    match SpdFactor::new(m, s_raw.clone()) {
+        Ok(f) => (s_raw, Some(f), None),
+        Err(k) => (s_raw, None, Some(Error::LinearSolver(format!(
+            "the dense factorization of the Schur complement on the {m} contact unknowns failed (LAPACK's Cholesky: its leading minor of order {k} is not positive definite): the matrix K + r B^T W B is singular or nearly so"
+        )))),
+    }
+}
+
 impl Direct {
     /// Analyses and factorizes `a` (the assembled `K_r`), with the Schur
     /// complement on the contact unknowns when `condense`.
@@ -399,28 +422,36 @@ impl Direct {
         let ev_factor = LogEvent::register("MUMPSFactorNum")?;
         let ev_solve = LogEvent::register("MUMPSSolve")?;
         let ev_schur = LogEvent::register("SchurSolve")?;
-        {
-            let _e = ev_factor.begin();
-            mumps.factorize()?;
+        let mut direct = Direct {
+            mumps,
+            ev_factor,
+            ev_solve,
+            ev_schur,
+            factorizations: 1,
+            dofs: dof_layout,
+            schur: None,
+            flops: f64::NAN,
+            ordering,
+            all: Vec::new(),
+            kept,
+            reduced: 0,
+            failure: None,
+        };
+        let factorized = {
+            let _e = direct.ev_factor.begin();
+            direct.mumps.factorize()
+        };
+        if let Err(e) = factorized {
+            return Direct::failed(direct, e);
         }
-        let flops = mumps.rinfog(3);
-        let schur = if condense {
-            let (mut s_raw, mut s) = (Vec::new(), None);
-            let mut status = 0.0f64;
+        direct.flops = direct.mumps.rinfog(3);
+        if condense {
             let _e = LogEvent::register("SchurFactor")?.begin();
-            if world.rank() == 0 {
-                s_raw = mumps.schur_upper().to_vec();
-                match SpdFactor::new(m, s_raw.clone()) {
-                    Ok(f) => s = Some(f),
-                    Err(_) => status = 1.0,
-                }
+            let (s_raw, s, failed) = schur_factor(world, &direct.mumps, m);
+            if let Err(e) = host_verdict(world, failed) {
+                return Direct::failed(direct, e);
             }
-            host_failed(
-                world,
-                status != 0.0,
-                "the dense factorization of the Schur complement failed",
-            )?;
-            Some(SchurPart {
+            direct.schur = Some(SchurPart {
                 m,
                 layout: Layout::new(world, surface.cs.len() * comps.len()),
                 s_raw,
@@ -429,24 +460,33 @@ impl Direct {
                 shifted_on: false,
                 rhs: vec![0.0; if world.rank() == 0 { m } else { 0 }],
                 sol: vec![0.0; if world.rank() == 0 { m } else { 0 }],
-            })
-        } else {
-            None
-        };
-        Ok(Direct {
-            mumps,
-            ev_factor,
-            ev_solve,
-            ev_schur,
-            factorizations: 1,
-            dofs: dof_layout,
-            schur,
-            flops,
-            ordering,
-            all: Vec::new(),
-            kept,
-            reduced: 0,
-        })
+            });
+        }
+        Ok(direct)
+    }
+
+    /// A factorization that failed in a way the run reports as its outcome
+    /// (a failed linear solve, exit status 3, or memory, 4: collective
+    /// errors) is kept, not returned: the problem is still set up, every
+    /// later solve returns it ([`Direct::failure`]), and the run writes its
+    /// outputs before it ends with it. Any other error is returned.
+    fn failed(mut direct: Direct, e: Error) -> Result<Direct, Error> {
+        if !matches!(e, Error::LinearSolver(_) | Error::OutOfMemory(_)) {
+            return Err(e);
+        }
+        direct.schur = None;
+        direct.failure = Some(e);
+        Ok(direct)
+    }
+
+    /// The failure of the factorization, if it failed (the same on every rank).
+    pub fn failure(&self) -> Option<&Error> {
+        self.failure.as_ref()
+    }
+
+    /// `Err` with the failure of the factorization, if it failed.
+    fn usable(&self) -> Result<(), Error> {
+        self.failure.clone().map_or(Ok(()), Err)
     }
 
     pub fn is_condensed(&self) -> bool {
@@ -512,6 +552,7 @@ impl Direct {
         cols: &mut [f64],
         k: usize,
     ) -> Result<(), Error> {
+        self.usable()?;
         let _e = self.ev_solve.begin();
         let host = world.rank() == 0;
         let mut all = self.gather_columns(world, cols, k);
@@ -559,6 +600,7 @@ impl Direct {
         x: &mut [f64],
         keep: usize,
     ) -> Result<(), Error> {
+        self.usable()?;
         let _e = self.ev_solve.begin();
         let host = world.rank() == 0;
         let keep = keep.max(1);
@@ -601,6 +643,7 @@ impl Direct {
         k: usize,
         cols: &mut [f64],
     ) -> Result<bool, Error> {
+        self.usable()?;
         if k == 0 || self.reduced != k {
             return Ok(false);
         }
@@ -638,6 +681,7 @@ impl Direct {
         c: &[f64],
         x: &mut [f64],
     ) -> Result<(), Error> {
+        self.usable()?;
         let _e = self.ev_schur.begin();
         let sp = self.schur.as_mut().expect("condensed");
         sp.layout.gather_into(world, c, &mut sp.rhs);
@@ -678,6 +722,7 @@ impl Direct {
         blocks: &[f64],
         d: usize,
     ) -> Result<(), Error> {
+        self.usable()?;
         let sp = self.schur.as_mut().expect("condensed");
         let layout = Layout::new(world, blocks.len());
         let all = layout.gather(world, blocks);
@@ -739,28 +784,30 @@ impl Direct {
                 "an entry left out of MUMPS' input is no longer zero".into(),
             ));
         }
+        self.usable()?;
         self.reduced = 0;
-        {
+        let factorized = {
             let _e = self.ev_factor.begin();
-            self.mumps.factorize()?;
-        }
+            self.mumps.factorize()
+        };
         self.factorizations += 1;
-        if let Some(sp) = self.schur.as_mut() {
-            let mut status = 0.0f64;
-            if world.rank() == 0 {
-                sp.s_raw.clear();
-                sp.s_raw.extend_from_slice(self.mumps.schur_upper());
-                match SpdFactor::new(sp.m, sp.s_raw.clone()) {
-                    Ok(f) => sp.s = Some(f),
-                    Err(_) => status = 1.0,
-                }
+        let verdict = factorized.and_then(|()| match self.schur.as_mut() {
+            Some(sp) => {
+                // The old factor goes first (the host holds one S at a time).
+                sp.s = None;
+                let (s_raw, s, failed) = schur_factor(world, &self.mumps, sp.m);
+                (sp.s_raw, sp.s, sp.shifted_on) = (s_raw, s, false);
+                host_verdict(world, failed)
             }
-            host_failed(
-                world,
-                status != 0.0,
-                "the dense factorization of the Schur complement failed",
-            )?;
-            sp.shifted_on = false;
+            None => Ok(()),
+        });
+        if let Err(e) = verdict {
+            // No factorization to solve with any more.
+            if matches!(e, Error::LinearSolver(_) | Error::OutOfMemory(_)) {
+                self.schur = None;
+                self.failure = Some(e.clone());
+            }
+            return Err(e);
         }
         Ok(())
     }
