@@ -258,3 +258,108 @@ fn out_of_memory(bytes: usize) -> ! {
         _exit(EXIT_OUT_OF_MEMORY)
     }
 }
+
+/// This process's address space in use and its limit (`ulimit -v`), in
+/// bytes, when a limit is set; read with system calls only (no
+/// allocation: it runs in a signal handler).
+fn address_space() -> Option<(u64, u64)> {
+    use std::os::raw::{c_char, c_int, c_long};
+    #[repr(C)]
+    struct Rlimit {
+        cur: u64,
+        max: u64,
+    }
+    extern "C" {
+        fn getrlimit(resource: c_int, rlim: *mut Rlimit) -> c_int;
+        fn open(path: *const c_char, flags: c_int, ...) -> c_int;
+        fn read(fd: c_int, buf: *mut u8, count: usize) -> isize;
+        fn close(fd: c_int) -> c_int;
+        fn sysconf(name: c_int) -> c_long;
+    }
+    const RLIMIT_AS: c_int = 9;
+    const SC_PAGESIZE: c_int = 30;
+    let mut lim = Rlimit { cur: 0, max: 0 };
+    if unsafe { getrlimit(RLIMIT_AS, &mut lim) } != 0 || lim.cur == u64::MAX {
+        return None;
+    }
+    // /proc/self/statm: the first field is the size of the address space
+    // in pages.
+    let mut buf = [0u8; 64];
+    let n = unsafe {
+        let fd = open(c"/proc/self/statm".as_ptr(), 0);
+        if fd < 0 {
+            return None;
+        }
+        let n = read(fd, buf.as_mut_ptr(), buf.len());
+        close(fd);
+        n
+    };
+    let digits = buf[..n.max(0) as usize]
+        .iter()
+        .take_while(|b| b.is_ascii_digit());
+    let pages = digits.fold(0u64, |a, &b| a * 10 + (b - b'0') as u64);
+    let page = unsafe { sysconf(SC_PAGESIZE) }.max(1) as u64;
+    Some((pages * page, lim.cur))
+}
+
+/// A crash (SIGSEGV, SIGBUS) with the address space near its limit
+/// (`ulimit -v`, 80% or more in use) is memory that ran out in a library
+/// that does not check its allocations (seen: MUMPS 5.5's analysis,
+/// `dmumps_ana_gnew_`, at a 520 MB limit per rank): one line naming it and
+/// exit status 4 on every rank (`MPI_Abort`). Any other signal, or a crash
+/// far from the limit, goes to PETSc's own handler (its traceback, exit
+/// 59). Pushed on PETSc's handler stack, so `-no_signal_handler` still
+/// turns every handler off.
+pub fn catch_crash_near_memory_limit() -> Result<(), Error> {
+    use crate::petsc::{self, sys};
+    use std::os::raw::{c_int, c_void};
+    unsafe extern "C" fn handler(sig: c_int, ctx: *mut c_void) -> sys::PetscErrorCode {
+        const SIGBUS: c_int = 7;
+        const SIGSEGV: c_int = 11;
+        if sig == SIGSEGV || sig == SIGBUS {
+            if let Some((used, limit)) = address_space() {
+                if used >= limit / 5 * 4 {
+                    crashed_out_of_memory(sig, used, limit);
+                }
+            }
+        }
+        sys::PetscSignalHandlerDefault(sig, ctx)
+    }
+    if petsc::options::has_name("-no_signal_handler")? {
+        return Ok(());
+    }
+    unsafe {
+        petsc::check(sys::PetscPushSignalHandler(
+            Some(handler),
+            std::ptr::null_mut(),
+        ))
+    }
+}
+
+/// The end of a rank that crashed near its memory limit (see
+/// [`catch_crash_near_memory_limit`]).
+fn crashed_out_of_memory(sig: std::os::raw::c_int, used: u64, limit: u64) -> ! {
+    use std::fmt::Write as _;
+    use std::io::Write as _;
+    extern "C" {
+        fn _exit(status: std::os::raw::c_int) -> !;
+    }
+    let mut rank = -1;
+    unsafe { mpi::ffi::MPI_Comm_rank(mpi::ffi::RSMPI_COMM_WORLD, &mut rank) };
+    let mut line = StackLine {
+        buf: [0; 320],
+        len: 0,
+    };
+    let mib = |b: u64| b >> 20;
+    let _ = writeln!(
+        line,
+        "error: out of memory: rank {rank} crashed (signal {sig}) with {} MiB of its {} MiB address-space limit (ulimit -v) in use: a library ran out of memory without checking; give each rank more memory, or use more ranks",
+        mib(used),
+        mib(limit)
+    );
+    let _ = std::io::stderr().write_all(&line.buf[..line.len]);
+    unsafe {
+        mpi::ffi::MPI_Abort(mpi::ffi::RSMPI_COMM_WORLD, EXIT_OUT_OF_MEMORY);
+        _exit(EXIT_OUT_OF_MEMORY)
+    }
+}

@@ -102,6 +102,14 @@ impl Mumps {
 
     fn check(&self, phase: &str) -> Result<(), Error> {
         let code = self.id.infog[0];
+        // -135 with INFOG(2) = -13: the static mapping of the analysis
+        // could not allocate its work space.
+        let mapping = code == -135 && self.id.infog[1] == -13;
+        if mapping {
+            return Err(Error::OutOfMemory(format!(
+                "MUMPS {phase} could not allocate the work space of its mapping on one rank (INFOG(1) = -135, INFOG(2) = -13); give each rank more memory, or use more ranks"
+            )));
+        }
         if matches!(code, -5 | -7 | -13 | -19) {
             // INFOG(1) is the same on every rank (MUMPS ends a phase
             // collectively): so is this error.
