@@ -418,7 +418,12 @@ impl Direct {
             mumps.set_schur(m, listvar);
         }
         let schur_nodes: &[usize] = if condense { &contact_global } else { &[] };
-        let ordering = choose_ordering(world, &mut mumps, mesh, adjacency, schur_nodes, comps)?;
+        // The analysis may fail as the factorization may (memory): kept too.
+        let (ordering, analysed) =
+            match choose_ordering(world, &mut mumps, mesh, adjacency, schur_nodes, comps) {
+                Ok(ordering) => (ordering, Ok(())),
+                Err(e) => ("the analysis failed".to_string(), Err(e)),
+            };
         let ev_factor = LogEvent::register("MUMPSFactorNum")?;
         let ev_solve = LogEvent::register("MUMPSSolve")?;
         let ev_schur = LogEvent::register("SchurSolve")?;
@@ -430,21 +435,24 @@ impl Direct {
             factorizations: 1,
             dofs: dof_layout,
             schur: None,
-            flops: f64::NAN,
+            flops: 0.0,
             ordering,
             all: Vec::new(),
             kept,
             reduced: 0,
             failure: None,
         };
+        if let Err(e) = analysed {
+            return Direct::failed(direct, e);
+        }
         let factorized = {
             let _e = direct.ev_factor.begin();
             direct.mumps.factorize()
         };
+        direct.flops = direct.mumps.rinfog(3);
         if let Err(e) = factorized {
             return Direct::failed(direct, e);
         }
-        direct.flops = direct.mumps.rinfog(3);
         if condense {
             let _e = LogEvent::register("SchurFactor")?.begin();
             let (s_raw, s, failed) = schur_factor(world, &direct.mumps, m);
@@ -465,11 +473,12 @@ impl Direct {
         Ok(direct)
     }
 
-    /// A factorization that failed in a way the run reports as its outcome
-    /// (a failed linear solve, exit status 3, or memory, 4: collective
-    /// errors) is kept, not returned: the problem is still set up, every
-    /// later solve returns it ([`Direct::failure`]), and the run writes its
-    /// outputs before it ends with it. Any other error is returned.
+    /// An analysis or factorization that failed in a way the run reports
+    /// as its outcome (a failed linear solve, exit status 3, or memory, 4:
+    /// collective errors) is kept, not returned: the problem is still set
+    /// up, every later solve returns it ([`Direct::failure`]), and the run
+    /// writes its outputs before it ends with it. Any other error is
+    /// returned.
     fn failed(mut direct: Direct, e: Error) -> Result<Direct, Error> {
         if !matches!(e, Error::LinearSolver(_) | Error::OutOfMemory(_)) {
             return Err(e);
