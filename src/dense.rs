@@ -101,6 +101,24 @@ pub fn reserve_blas_workspace() -> Result<(), usize> {
     Ok(())
 }
 
+/// `n` zeros, or `Err(bytes)` when they cannot be allocated (a large dense
+/// array: the caller reports it, collectively, instead of the allocator
+/// ending the run).
+pub fn try_zeros(n: usize) -> Result<Vec<f64>, usize> {
+    let mut v = Vec::new();
+    crate::error::fallible(|| v.try_reserve_exact(n)).map_err(|_| n * 8)?;
+    v.resize(n, 0.0);
+    Ok(v)
+}
+
+/// A copy of `a`, or `Err(bytes)` (see [`try_zeros`]).
+pub fn try_copy(a: &[f64]) -> Result<Vec<f64>, usize> {
+    let mut v = Vec::new();
+    crate::error::fallible(|| v.try_reserve_exact(a.len())).map_err(|_| a.len() * 8)?;
+    v.extend_from_slice(a);
+    Ok(v)
+}
+
 /// The Cholesky factor `U^T U` of an `n x n` symmetric positive definite
 /// matrix given by its upper triangle (column-major); the default is the
 /// empty one (order 0).
@@ -255,6 +273,15 @@ mod tests {
             let r: f64 = (0..n).map(|j| full[j * n + i] * z[j]).sum::<f64>() + 3.0 * z[i];
             assert!((r - b[i]).abs() < 1e-9 * b[i].abs().max(1.0));
         }
+    }
+
+    #[test]
+    fn an_array_too_large_is_refused_not_fatal() {
+        // 2^44 entries, 128 TiB: more than a process's address space. The
+        // program's allocator would end the run; here the caller is told.
+        assert_eq!(try_zeros(1 << 44).err(), Some(8 << 44));
+        assert_eq!(try_zeros(3).unwrap(), vec![0.0; 3]);
+        assert_eq!(try_copy(&[1.0, 2.0]).unwrap(), vec![1.0, 2.0]);
     }
 
     #[test]

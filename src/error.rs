@@ -168,9 +168,31 @@ pub fn bad<T>(msg: impl Into<String>) -> Result<T, Error> {
 /// handler prints "memory allocation of N bytes failed" and aborts the
 /// process (signal 6, a stack trace under `RUST_BACKTRACE`, and mpirun's
 /// notice of a signal). The line is formatted on the stack: nothing is
-/// allocated on the way out. (A fallible `try_reserve` would end the run
-/// too; the program makes none that it could recover from.)
+/// allocated on the way out. Inside [`fallible`] a failed allocation is
+/// returned (a null pointer: `try_reserve` then says so) for the caller to
+/// report.
 pub struct OutOfMemory;
+
+thread_local! {
+    /// Set inside [`fallible`].
+    static FALLIBLE: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Runs `f` with allocations that may fail: one that does returns a null
+/// pointer to its caller (`Vec::try_reserve` then returns an error)
+/// instead of ending the run. For the large dense arrays whose failure the
+/// program reports itself, collectively.
+pub fn fallible<T>(f: impl FnOnce() -> T) -> T {
+    let before = FALLIBLE.with(|c| c.replace(true));
+    let out = f();
+    FALLIBLE.with(|c| c.set(before));
+    out
+}
+
+/// Whether a failed allocation is the caller's to handle ([`fallible`]).
+fn may_fail() -> bool {
+    FALLIBLE.with(|c| c.get())
+}
 
 #[global_allocator]
 static ALLOCATOR: OutOfMemory = OutOfMemory;
@@ -178,7 +200,7 @@ static ALLOCATOR: OutOfMemory = OutOfMemory;
 unsafe impl std::alloc::GlobalAlloc for OutOfMemory {
     unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
         let p = std::alloc::System.alloc(layout);
-        if p.is_null() {
+        if p.is_null() && !may_fail() {
             out_of_memory(layout.size());
         }
         p
@@ -186,7 +208,7 @@ unsafe impl std::alloc::GlobalAlloc for OutOfMemory {
 
     unsafe fn alloc_zeroed(&self, layout: std::alloc::Layout) -> *mut u8 {
         let p = std::alloc::System.alloc_zeroed(layout);
-        if p.is_null() {
+        if p.is_null() && !may_fail() {
             out_of_memory(layout.size());
         }
         p
@@ -198,7 +220,7 @@ unsafe impl std::alloc::GlobalAlloc for OutOfMemory {
 
     unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, new_size: usize) -> *mut u8 {
         let p = std::alloc::System.realloc(ptr, layout, new_size);
-        if p.is_null() {
+        if p.is_null() && !may_fail() {
             out_of_memory(new_size);
         }
         p

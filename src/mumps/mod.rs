@@ -219,18 +219,23 @@ impl Mumps {
 
     /// Asks for the Schur complement on the variables `listvar` (1-based;
     /// on the host), returned centralized on the host by rows (ICNTL(19) = 1;
-    /// for a symmetric matrix its lower triangle).
-    pub fn set_schur(&mut self, size: usize, listvar: Vec<i32>) {
+    /// for a symmetric matrix its lower triangle). `Err`: the host cannot
+    /// allocate its `size x size` array (the bytes asked for); nothing is
+    /// set then.
+    pub fn set_schur(&mut self, size: usize, listvar: Vec<i32>) -> Result<(), usize> {
+        if self.host {
+            assert_eq!(listvar.len(), size);
+            self.schur = crate::dense::try_zeros(size * size)?;
+        }
         icntl!(self.id, 19) = 1;
         self.id.size_schur = size as i32;
         if self.host {
-            assert_eq!(listvar.len(), size);
             self.listvar = listvar;
-            self.schur = vec![0.0; size * size];
             self.id.listvar_schur = self.listvar.as_mut_ptr();
             self.id.schur = self.schur.as_mut_ptr();
             self.id.schur_lld = size as i32;
         }
+        Ok(())
     }
 
     /// The Schur complement (host), as MUMPS returns it: its lower triangle

@@ -330,6 +330,15 @@ fn host_failed<C: Communicator>(world: &C, failed: bool, what: &str) -> Result<(
     host_verdict(world, failed.then(|| Error::LinearSolver(what.into())))
 }
 
+/// The error of a dense Schur array of order `m` that rank 0 cannot
+/// allocate (`bytes`).
+fn schur_memory(m: usize, bytes: usize) -> Error {
+    Error::OutOfMemory(format!(
+        "rank 0 cannot allocate the dense Schur complement on the {m} contact unknowns ({:.1} MiB a copy); -ubr_condense_max 0 solves without it, in less memory on rank 0",
+        bytes as f64 / (1u64 << 20) as f64
+    ))
+}
+
 /// The host's Schur complement as MUMPS returned it, its dense Cholesky
 /// factor, and the host's error when the factorization fails (a matrix
 /// that is not positive definite: `K_r` singular or nearly so).
@@ -341,8 +350,13 @@ fn schur_factor<C: Communicator>(
     if world.rank() != 0 {
         return (Vec::new(), None, None);
     }
-    let s_raw = mumps.schur_upper().to_vec();
-    match SpdFactor::new(m, s_raw.clone()) {
+    let copies = crate::dense::try_copy(mumps.schur_upper())
+        .and_then(|s_raw| Ok((crate::dense::try_copy(&s_raw)?, s_raw)));
+    let (s, s_raw) = match copies {
+        Ok(c) => c,
+        Err(bytes) => return (Vec::new(), None, Some(schur_memory(m, bytes))),
+    };
+    match SpdFactor::new(m, s) {
         Ok(f) => (s_raw, Some(f), None),
         Err(k) => (s_raw, None, Some(Error::LinearSolver(format!(
             "the dense factorization of the Schur complement on the {m} contact unknowns failed (LAPACK's Cholesky: its leading minor of order {k} is not positive definite): the matrix K + r B^T W B is singular or nearly so"
@@ -410,20 +424,26 @@ impl Direct {
             .collect();
         let m = layout.total() * comps.len();
         let dof_layout = Layout::new(world, mesh.owned_count * d);
+        let mut prepared = Ok(());
         if condense {
             let listvar: Vec<i32> = contact_global
                 .iter()
                 .flat_map(|&g| comps.iter().map(move |&c| (g * d + c + 1) as i32))
                 .collect();
-            mumps.set_schur(m, listvar);
+            let failed = mumps
+                .set_schur(m, listvar)
+                .err()
+                .map(|bytes| schur_memory(m, bytes));
+            prepared = host_verdict(world, failed);
         }
         let schur_nodes: &[usize] = if condense { &contact_global } else { &[] };
         // The analysis may fail as the factorization may (memory): kept too.
-        let (ordering, analysed) =
-            match choose_ordering(world, &mut mumps, mesh, adjacency, schur_nodes, comps) {
-                Ok(ordering) => (ordering, Ok(())),
-                Err(e) => ("the analysis failed".to_string(), Err(e)),
-            };
+        let analysis = prepared
+            .and_then(|()| choose_ordering(world, &mut mumps, mesh, adjacency, schur_nodes, comps));
+        let (ordering, analysed) = match analysis {
+            Ok(ordering) => (ordering, Ok(())),
+            Err(e) => ("not analysed".to_string(), Err(e)),
+        };
         let ev_factor = LogEvent::register("MUMPSFactorNum")?;
         let ev_solve = LogEvent::register("MUMPSSolve")?;
         let ev_schur = LogEvent::register("SchurSolve")?;
