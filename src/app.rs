@@ -36,7 +36,7 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
         }
     }
     reserve_blas_workspace(world)?;
-    crate::error::catch_crash_near_memory_limit()?;
+    crate::error::memory::catch_crash_near_memory_limit()?;
     let mut unused = Unused::default();
     let mut problem = match ContactProblem::new(world) {
         Ok(problem) => problem,

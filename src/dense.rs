@@ -78,6 +78,8 @@ pub fn reserve_blas_workspace() -> Result<(), usize> {
         fn dlsym(handle: *mut std::ffi::c_void, name: *const c_char) -> *mut std::ffi::c_void;
     }
     // RTLD_DEFAULT (glibc: the null handle): is OpenBLAS in the process?
+    // SAFETY: dlsym reads a NUL-terminated name and returns a pointer that
+    // is only compared with null.
     let openblas =
         unsafe { !dlsym(std::ptr::null_mut(), c"openblas_get_config".as_ptr()).is_null() };
     if !openblas {
@@ -86,6 +88,8 @@ pub fn reserve_blas_workspace() -> Result<(), usize> {
     let layout = Layout::from_size_align(OPENBLAS_BUFFER, 4096).expect("a valid layout");
     // The system allocator itself: a null pointer is an answer here, not a
     // failure to report (the program's allocator ends the run on one).
+    // SAFETY: a layout of non-zero size; the block is freed at once, with
+    // the layout it was allocated with.
     let probe = unsafe { System.alloc(layout) };
     if probe.is_null() {
         return Err(OPENBLAS_BUFFER);
@@ -93,6 +97,8 @@ pub fn reserve_blas_workspace() -> Result<(), usize> {
     unsafe { System.dealloc(probe, layout) };
     let (one, alpha, a, mut b) = (1 as c_int, 1.0f64, 1.0f64, 1.0f64);
     let (left, notrans, nonunit) = (b'L' as c_char, b'N' as c_char, b'N' as c_char);
+    // SAFETY: a 1 x 1 triangular solve: every argument points to a live
+    // scalar of the type the Fortran interface reads.
     unsafe {
         dtrsm_(
             &left, &UPPER, &notrans, &nonunit, &one, &one, &alpha, &a, &one, &mut b, &one,
