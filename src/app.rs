@@ -16,6 +16,7 @@ use crate::solver::checks::{self, Deformation, Diagnostics, Forces};
 use crate::solver::outcome::{self, Solved};
 use crate::solver::surface::UbrState;
 use crate::solver::touching;
+use crate::solver::ubr::UbrOutcome;
 use crate::solver::wellposed::{self, Restraint};
 use crate::solver::{
     allreduce_count, allreduce_max, allreduce_sum, penalty, ContactTerms, Problem,
@@ -35,6 +36,8 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
             return Ok(());
         }
     }
+    reserve_blas_workspace(world)?;
+    crate::error::memory::catch_crash_near_memory_limit()?;
     let mut unused = Unused::default();
     let mut problem = match ContactProblem::new(world) {
         Ok(problem) => problem,
@@ -46,11 +49,39 @@ pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
     let outcome = problem.run(&mut unused);
     // After a failure some options may not have been read yet: only the
     // names that look like the program's but are none of them are wrong.
+    // A run that reached its outputs has read them all.
     match &outcome {
         Ok(()) | Err(Error::NotConverged(_)) => unused.finish(root)?,
+        Err(_) if problem.outputs_reached => unused.finish(root)?,
         Err(_) => unused.undeclared(root)?,
     }
     outcome
+}
+
+/// OpenBLAS' work space, mapped at start-up on every rank
+/// ([`crate::dense::reserve_blas_workspace`]): a memory limit too small for
+/// it is named now, collectively, instead of a rank spinning in OpenBLAS
+/// (which retries a failed mapping for ever) while the others wait for it
+/// in MUMPS.
+fn reserve_blas_workspace<C: Communicator>(world: &C) -> Result<(), Error> {
+    let failed = crate::dense::reserve_blas_workspace().err();
+    let size = world.size();
+    // The lowest failing rank r as size - r (0: none failed).
+    let mine = if failed.is_some() {
+        size - world.rank()
+    } else {
+        0
+    };
+    let worst = allreduce_max(world, mine as f64) as i32;
+    if worst == 0 {
+        return Ok(());
+    }
+    let bytes = failed.unwrap_or(crate::dense::OPENBLAS_BUFFER);
+    let first = size - worst;
+    Err(Error::OutOfMemory(format!(
+        "rank {first} cannot map OpenBLAS' {} MiB work space at start-up: a memory limit (ulimit -v, the batch system's) leaves less than that to the whole run",
+        bytes >> 20
+    )))
 }
 
 /// The scene and the state of the run between its steps.
@@ -66,7 +97,21 @@ struct ContactProblem<'w, C: Communicator> {
     warnings: Vec<String>,
     /// Whether parts of the mesh were found touching before the solve.
     touched: bool,
+    /// The trial r0 the program starts from (the P-wave modulus, the
+    /// candidate spacing and the contact-surface extent), computed at the
+    /// assembly whether or not `-ubr_r` gives r: an r far from it is named
+    /// when the run fails.
+    r_trial: Option<f64>,
+    /// Whether the run reached the output step.
+    outputs_reached: bool,
 }
+
+/// An r given by `-ubr_r` more than this factor away from the trial r0
+/// (either way) is far outside the range the program would choose: its
+/// automatic choice stays within a few times r0, and the accuracy stop
+/// holds for r/E from 1e-3 to 1e3 (`tests/r_range.rs`; r0/E is 0.9 to 11
+/// on the shipped scenes).
+const R_FAR: f64 = 1e6;
 
 /// What the solve step returns.
 struct Solution {
@@ -114,28 +159,157 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             times: Times::default(),
             warnings,
             touched: false,
+            r_trial: None,
+            outputs_reached: false,
         })
     }
 
-    /// The steps of a run.
+    /// The steps of a run. Once the problem is assembled, a failure of the
+    /// method ([`Error::is_outcome`]: not converged, a failed linear solve
+    /// or factorization, memory in MUMPS; collective, so every rank takes
+    /// the same branch) skips the steps left but the check and the outputs,
+    /// which report the state as it is (zero displacement and multipliers
+    /// when no iteration ran) with `converged: false` and the failure's
+    /// message; the run then ends with that error.
     fn run(&mut self, unused: &mut Unused) -> Result<(), Error> {
         let local = self.make_and_distribute_mesh()?;
         let (contact, restraint) = self.setup_contact(&local)?;
-        let mut problem = self.assemble(&local, contact, &restraint)?;
-        let choice = self.choose_r(&local, &mut problem, &restraint)?;
+        let assembled = self.assemble(&local, contact, &restraint);
+        let mut problem = assembled.map_err(|e| self.explain_r(e))?;
+        let mut failure = problem.lin.failure();
+        let mut choice = None;
+        if failure.is_none() {
+            match self.choose_r(&local, &mut problem, &restraint) {
+                Ok(c) => choice = c,
+                Err(e) if e.is_outcome() => failure = Some(e),
+                Err(e) => return Err(e),
+            }
+        }
+        if failure.is_some() {
+            choice = self.unchosen(&problem);
+        }
         unused.early(self.root)?;
-        let solution = self.solve(&local, &mut problem, &restraint)?;
+        let mut solution = None;
+        if failure.is_none() {
+            match self.solve(&local, &mut problem, &restraint) {
+                Ok(s) => solution = Some(s),
+                Err(e) if e.is_outcome() => failure = Some(e),
+                Err(e) => return Err(e),
+            }
+        }
+        let mut solution = match solution {
+            Some(s) => s,
+            None => self.unsolved(&problem)?,
+        };
         let checked = self.check(&local, &problem, &restraint, &solution)?;
-        self.output(&local, &problem, choice.as_ref(), &solution, &checked)?;
-        // A run that did not converge says why; an answer that violates
-        // equilibrium after a converged run means a singular matrix.
-        if !solution.solved.converged {
-            return Err(Error::NotConverged(solution.solved.failure()));
+        // The outcome: the first failure, else the iterations' own verdict
+        // (a run that did not converge says why), else an answer that
+        // violates equilibrium after a converged run (a singular matrix).
+        let outcome = failure
+            .or_else(|| {
+                (!solution.solved.converged).then(|| Error::NotConverged(solution.solved.failure()))
+            })
+            .or_else(|| checked.singular.clone().map(Error::NotConverged))
+            .map(|e| self.explain_r(e));
+        if outcome.is_some() {
+            solution.solved.converged = false;
         }
-        if let Some(msg) = checked.singular {
-            return Err(Error::NotConverged(msg));
+        let message = outcome.as_ref().map(|e| e.to_string());
+        self.output(
+            &local,
+            &problem,
+            choice.as_ref(),
+            &solution,
+            &checked,
+            message,
+        )?;
+        outcome.map_or(Ok(()), Err)
+    }
+
+    /// `e` with a note naming r when `-ubr_r` gave an r far outside the
+    /// range the program would choose ([`R_FAR`] from the trial r0), for
+    /// the failures such an r causes (a singular or ill-conditioned
+    /// matrix, an iteration that does not converge).
+    fn explain_r(&self, e: Error) -> Error {
+        let (Some(r), Some(r0)) = (self.settings.ubr.r, self.r_trial) else {
+            return e;
+        };
+        let far = r > R_FAR * r0 || r < r0 / R_FAR;
+        let named = matches!(
+            e,
+            Error::NotConverged(_) | Error::LinearSolver(_) | Error::IllPosed(_)
+        );
+        // The iterations name an r far from r0 themselves.
+        let said = e.to_string().contains("trial r0");
+        if !far || !named || said || self.settings.algorithm != "ubr" {
+            return e;
         }
-        Ok(())
+        e.with_note(&format!(
+            "r = {r:e} (-ubr_r) is {:.0e} times the trial r0 = {r0:.3e} the program starts from, far outside the range it would choose (it stays within a few times r0); use -ubr_r auto (the default)",
+            r / r0
+        ))
+    }
+
+    /// The r choice to report when it did not run or failed: r as it is,
+    /// no spectral estimate.
+    fn unchosen(&self, problem: &Problem) -> Option<penalty::Choice> {
+        (self.settings.algorithm == "ubr").then(|| {
+            let auto = self.settings.ubr.r.is_none();
+            penalty::Choice {
+                r: problem.r(),
+                source: if auto {
+                    penalty::Source::Auto
+                } else {
+                    penalty::Source::Option
+                },
+                r0: self.r_trial.filter(|_| auto).unwrap_or(problem.r()),
+                estimate: f64::NAN,
+                sigma_min: f64::NAN,
+                sigma_max: f64::NAN,
+                steps: 0,
+                refactorized: false,
+            }
+        })
+    }
+
+    /// The solution to report when the iterations did not run or failed:
+    /// zero displacement and multipliers, no iteration, every measure of
+    /// the iterations unknown (NaN: null in the report).
+    fn unsolved(&self, problem: &Problem) -> Result<Solution, Error> {
+        let s = &self.settings;
+        let name = match (s.algorithm.as_str(), s.friction) {
+            ("snesvi", _) => "SNES-VI",
+            ("ssn", _) => "SSN-C",
+            (_, Friction::None) => "UBR-C",
+            (_, Friction::Tresca) => "UBR-TF",
+            (_, Friction::Coulomb) => "CF-FP",
+        };
+        let nan = f64::NAN;
+        let last = UbrOutcome {
+            criterion: nan,
+            residual: nan,
+            dual: nan,
+            tension: nan,
+            p: nan,
+            k: nan,
+            error_estimate: nan,
+            ..UbrOutcome::default()
+        };
+        Ok(Solution {
+            state: UbrState::new(problem)?,
+            solved: Solved {
+                name,
+                iterations: 0,
+                fixed_point_iterations: 0,
+                frictionless_iterations: 0,
+                converged: false,
+                last,
+                fp_change: None,
+                bound: Vec::new(),
+                error_estimate: None,
+                failure: None,
+            },
+        })
     }
 
     /// Prints a warning once (rank 0) and keeps it for the report.
@@ -235,11 +409,13 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                 tangential: friction,
             }
         };
-        // r: the user's, or a trial r0 refined after the factorization (auto).
-        let r0 = s.ubr.r.unwrap_or_else(|| {
-            let modulus = penalty::p_wave_modulus(s.young, s.nu, d, s.plane_stress);
-            penalty::trial(world, local, &cs, modulus)
-        });
+        // r: the user's, or a trial r0 refined after the factorization
+        // (auto); the trial is kept to judge the user's r.
+        let modulus = penalty::p_wave_modulus(s.young, s.nu, d, s.plane_stress);
+        let trial = penalty::trial(world, local, &cs, modulus);
+        self.r_trial = Some(trial);
+        let s = &self.settings;
+        let r0 = s.ubr.r.unwrap_or(trial);
         progress::phase(false, || {
             format!(
                 "assembling and factorizing ({} unknowns)",
@@ -285,16 +461,18 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let auto = self.settings.ubr.r.is_none();
         progress::phase(false, || "choosing r".into());
         let monitor = self.settings.ubr.monitor;
-        let choice = penalty::choose(self.world, problem, restraint, local, auto, monitor)?;
-        if let Some(r0) = outcome::r_far(self.world, local, &self.settings, problem) {
-            self.warn(format!(
-                "-ubr_r {:.3e} is {:.1e} times the trial r0 = {r0:.3e} from which -ubr_r auto chooses (within a factor of about 30 of it): UBR converges slowly or not at all that far from it",
-                choice.r,
-                choice.r / r0
-            ));
+        let choice = penalty::choose(self.world, problem, restraint, local, auto, monitor);
+        if choice.is_ok() {
+            if let Some(r0) = outcome::r_far(self.world, local, &self.settings, problem) {
+                let r = problem.r();
+                self.warn(format!(
+                    "-ubr_r {r:.3e} is {:.1e} times the trial r0 = {r0:.3e} from which -ubr_r auto chooses (within a factor of about 30 of it): UBR converges slowly or not at all that far from it",
+                    r / r0
+                ));
+            }
         }
         self.times.r_choice = t.elapsed().as_secs_f64();
-        Ok(Some(choice))
+        Ok(Some(choice?))
     }
 
     /// Iterations stage: UBR-C, UBR-TF, CF-FP or a comparator.
@@ -307,15 +485,16 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let _guard = self.stages.iterations.push()?;
         let t = Instant::now();
         progress::phase(false, || "iterating".into());
-        let (state, solved) = outcome::solve(
+        let solved = outcome::solve(
             self.world,
             local,
             &self.settings,
             problem,
             restraint,
             &self.events,
-        )?;
+        );
         self.times.iterations = t.elapsed().as_secs_f64();
+        let (state, solved) = solved?;
         Ok(Solution { state, solved })
     }
 
@@ -358,6 +537,8 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     }
 
     /// Output stage: the summary and rank 0's files, the ParaView files.
+    /// `failure`: the message the run ends with when it fails (in the
+    /// report).
     fn output(
         &mut self,
         local: &LocalMesh,
@@ -365,7 +546,9 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         choice: Option<&penalty::Choice>,
         sol: &Solution,
         checked: &Checked,
+        failure: Option<String>,
     ) -> Result<(), Error> {
+        self.outputs_reached = true;
         let world = self.world;
         let _guard = self.stages.output.push()?;
         progress::phase(false, || "writing the outputs".into());
@@ -402,6 +585,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                 times: self.times.clone(),
                 memory,
                 warnings: &self.warnings,
+                failure,
             };
             report::summary::print(&results);
             written = files::write_root_files(&results);

@@ -25,6 +25,19 @@ extern "C" {
         ldb: *const c_int,
         info: *mut c_int,
     );
+    fn dtrsm_(
+        side: *const c_char,
+        uplo: *const c_char,
+        transa: *const c_char,
+        diag: *const c_char,
+        m: *const c_int,
+        n: *const c_int,
+        alpha: *const f64,
+        a: *const f64,
+        lda: *const c_int,
+        b: *mut f64,
+        ldb: *const c_int,
+    );
     fn dsymv_(
         uplo: *const c_char,
         n: *const c_int,
@@ -40,6 +53,77 @@ extern "C" {
 }
 
 const UPPER: c_char = b'U' as c_char;
+
+/// OpenBLAS' work space: the one buffer (`BUFFER_SIZE`, 128 MiB on Debian's
+/// x86-64 builds, plus a page) that its level-3 routines and its LAPACK
+/// take from `blas_memory_alloc` and give back (kept mapped) at the end of
+/// each call, mapped on the first such call.
+pub const OPENBLAS_BUFFER: usize = (128 << 20) + (1 << 20);
+
+/// Maps OpenBLAS' work space now, while the process is small, or says that
+/// it cannot be mapped. OpenBLAS maps its buffer on the first level-3 call
+/// (a MUMPS factorization, LAPACK's Cholesky) and, when `mmap` and `malloc`
+/// both fail (an address-space limit, `ulimit -v`), retries for ever
+/// (`blas_memory_alloc` in driver/others/memory.c, OpenBLAS 0.3.21, has no
+/// error return): the rank spins there and every other rank waits for it.
+/// Mapped once (the serial OpenBLAS, or `OPENBLAS_NUM_THREADS=1`: one
+/// buffer, reused by every later call), it is never mapped again. The
+/// check first maps and unmaps a region of the buffer's size itself (a
+/// failure is reported, not met in OpenBLAS), then makes one 1 x 1
+/// triangular solve. Nothing to do for another BLAS. `Err`: the bytes that
+/// could not be mapped.
+pub fn reserve_blas_workspace() -> Result<(), usize> {
+    use std::alloc::{GlobalAlloc, Layout, System};
+    extern "C" {
+        fn dlsym(handle: *mut std::ffi::c_void, name: *const c_char) -> *mut std::ffi::c_void;
+    }
+    // RTLD_DEFAULT (glibc: the null handle): is OpenBLAS in the process?
+    // SAFETY: dlsym reads a NUL-terminated name and returns a pointer that
+    // is only compared with null.
+    let openblas =
+        unsafe { !dlsym(std::ptr::null_mut(), c"openblas_get_config".as_ptr()).is_null() };
+    if !openblas {
+        return Ok(());
+    }
+    let layout = Layout::from_size_align(OPENBLAS_BUFFER, 4096).expect("a valid layout");
+    // The system allocator itself: a null pointer is an answer here, not a
+    // failure to report (the program's allocator ends the run on one).
+    // SAFETY: a layout of non-zero size; the block is freed at once, with
+    // the layout it was allocated with.
+    let probe = unsafe { System.alloc(layout) };
+    if probe.is_null() {
+        return Err(OPENBLAS_BUFFER);
+    }
+    unsafe { System.dealloc(probe, layout) };
+    let (one, alpha, a, mut b) = (1 as c_int, 1.0f64, 1.0f64, 1.0f64);
+    let (left, notrans, nonunit) = (b'L' as c_char, b'N' as c_char, b'N' as c_char);
+    // SAFETY: a 1 x 1 triangular solve: every argument points to a live
+    // scalar of the type the Fortran interface reads.
+    unsafe {
+        dtrsm_(
+            &left, &UPPER, &notrans, &nonunit, &one, &one, &alpha, &a, &one, &mut b, &one,
+        );
+    }
+    Ok(())
+}
+
+/// `n` zeros, or `Err(bytes)` when they cannot be allocated (a large dense
+/// array: the caller reports it, collectively, instead of the allocator
+/// ending the run).
+pub fn try_zeros(n: usize) -> Result<Vec<f64>, usize> {
+    let mut v = Vec::new();
+    crate::error::fallible(|| v.try_reserve_exact(n)).map_err(|_| n * 8)?;
+    v.resize(n, 0.0);
+    Ok(v)
+}
+
+/// A copy of `a`, or `Err(bytes)` (see [`try_zeros`]).
+pub fn try_copy(a: &[f64]) -> Result<Vec<f64>, usize> {
+    let mut v = Vec::new();
+    crate::error::fallible(|| v.try_reserve_exact(a.len())).map_err(|_| a.len() * 8)?;
+    v.extend_from_slice(a);
+    Ok(v)
+}
 
 /// The Cholesky factor `U^T U` of an `n x n` symmetric positive definite
 /// matrix given by its upper triangle (column-major); the default is the
@@ -195,6 +279,15 @@ mod tests {
             let r: f64 = (0..n).map(|j| full[j * n + i] * z[j]).sum::<f64>() + 3.0 * z[i];
             assert!((r - b[i]).abs() < 1e-9 * b[i].abs().max(1.0));
         }
+    }
+
+    #[test]
+    fn an_array_too_large_is_refused_not_fatal() {
+        // 2^44 entries, 128 TiB: more than a process's address space. The
+        // program's allocator would end the run; here the caller is told.
+        assert_eq!(try_zeros(1 << 44).err(), Some(8 << 44));
+        assert_eq!(try_zeros(3).unwrap(), vec![0.0; 3]);
+        assert_eq!(try_copy(&[1.0, 2.0]).unwrap(), vec![1.0, 2.0]);
     }
 
     #[test]

@@ -32,10 +32,11 @@ static STATE: Mutex<State> = Mutex::new(State {
 });
 
 /// Starts the clock (once per run); only `root` prints, and only it runs
-/// the watcher.
+/// the watcher (none when no thread can be started, e.g. under a memory
+/// limit that leaves no room for its stack: the run itself then decides).
 pub fn start(root: bool) {
     if START.set((Instant::now(), root)).is_ok() && root {
-        std::thread::spawn(|| loop {
+        let _ = std::thread::Builder::new().spawn(|| loop {
             std::thread::sleep(Duration::from_millis(200));
             if elapsed() > LONG_RUN {
                 with_state(|s| {

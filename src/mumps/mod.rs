@@ -102,6 +102,19 @@ impl Mumps {
 
     fn check(&self, phase: &str) -> Result<(), Error> {
         let code = self.id.infog[0];
+        // -135 with INFOG(2) = -13: the static mapping of the analysis
+        // could not allocate its work space.
+        let mapping = code == -135 && self.id.infog[1] == -13;
+        if mapping {
+            return Err(Error::OutOfMemory(format!(
+                "MUMPS {phase} could not allocate the work space of its mapping on one rank (INFOG(1) = -135, INFOG(2) = -13); give each rank more memory, or use more ranks"
+            )));
+        }
+        if matches!(code, -5 | -7 | -13 | -19) {
+            // INFOG(1) is the same on every rank (MUMPS ends a phase
+            // collectively): so is this error.
+            return Err(Error::OutOfMemory(self.memory_failure(phase, code)));
+        }
         if code < 0 {
             return Err(Error::LinearSolver(format!(
                 "MUMPS {phase} failed: INFOG(1) = {code}, {}",
@@ -109,6 +122,35 @@ impl Mumps {
             )));
         }
         Ok(())
+    }
+
+    /// The message of a failed allocation (INFOG(1) = -5, -7, -13), or of
+    /// a factorization that needs more than ICNTL(23) MB (-19): what MUMPS
+    /// could not allocate or lacks (INFOG(2) entries, real ones or integers
+    /// (-7), or millions of them when negative) and what its analysis
+    /// predicted the factorization needs (INFOG(16), INFOG(17): MB per rank
+    /// at most, in all).
+    fn memory_failure(&self, phase: &str, code: i32) -> String {
+        let info2 = self.id.infog[1] as f64;
+        let entries = if info2 < 0.0 { -info2 * 1e6 } else { info2 };
+        let bytes = if code == -7 { 4.0 } else { 8.0 };
+        let mib = entries * bytes / (1u64 << 20) as f64;
+        let mut msg = if code == -19 {
+            format!(
+                "MUMPS {phase} needs {mib:.1} MiB more on one rank than the {} MB a rank may use (ICNTL(23), -mat_mumps_icntl_23; INFOG(1) = -19)",
+                icntl!(self.id, 23)
+            )
+        } else {
+            format!("MUMPS {phase} could not allocate {mib:.1} MiB on one rank (INFOG(1) = {code})")
+        };
+        let (per_rank, total) = (self.id.infog[15], self.id.infog[16]);
+        if per_rank > 0 {
+            msg.push_str(&format!(
+                "; its analysis predicted {per_rank} MB on the largest rank, {total} MB in all"
+            ));
+        }
+        msg.push_str("; give each rank more memory, or use more ranks");
+        msg
     }
 
     /// INFOG(1) of the last call.
@@ -177,18 +219,23 @@ impl Mumps {
 
     /// Asks for the Schur complement on the variables `listvar` (1-based;
     /// on the host), returned centralized on the host by rows (ICNTL(19) = 1;
-    /// for a symmetric matrix its lower triangle).
-    pub fn set_schur(&mut self, size: usize, listvar: Vec<i32>) {
+    /// for a symmetric matrix its lower triangle). `Err`: the host cannot
+    /// allocate its `size x size` array (the bytes asked for); nothing is
+    /// set then.
+    pub fn set_schur(&mut self, size: usize, listvar: Vec<i32>) -> Result<(), usize> {
+        if self.host {
+            assert_eq!(listvar.len(), size);
+            self.schur = crate::dense::try_zeros(size * size)?;
+        }
         icntl!(self.id, 19) = 1;
         self.id.size_schur = size as i32;
         if self.host {
-            assert_eq!(listvar.len(), size);
             self.listvar = listvar;
-            self.schur = vec![0.0; size * size];
             self.id.listvar_schur = self.listvar.as_mut_ptr();
             self.id.schur = self.schur.as_mut_ptr();
             self.id.schur_lld = size as i32;
         }
+        Ok(())
     }
 
     /// The Schur complement (host), as MUMPS returns it: its lower triangle

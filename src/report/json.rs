@@ -47,6 +47,8 @@ pub struct Report {
     pub fixed_point_iterations: usize,
     pub frictionless_iterations: usize,
     pub converged: bool,
+    /// The message the run ended with when it failed (null when it converged).
+    pub failure: Option<String>,
     pub criterion: f64,
     pub constraint_residual: f64,
     pub dual_residual: f64,
@@ -155,6 +157,7 @@ impl Report {
             fixed_point_iterations: res.fixed_point_iterations,
             frictionless_iterations: res.frictionless_iterations,
             converged: res.converged,
+            failure: m.failure.clone(),
             criterion: res.last.criterion,
             constraint_residual: res.last.residual,
             dual_residual: res.last.dual,

@@ -202,6 +202,8 @@ pub struct Results<'a> {
     pub memory: [f64; 3],
     /// The warnings of the run (also printed on stderr).
     pub warnings: &'a [String],
+    /// The message the run ends with when it fails (exit status 3 or 4).
+    pub failure: Option<String>,
 }
 
 impl Results<'_> {

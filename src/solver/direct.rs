@@ -84,6 +84,9 @@ pub struct Direct {
     /// whose forward elimination MUMPS keeps for an expansion
     /// ([`Direct::expand`]); 0 after any other solve or a refactorization.
     reduced: usize,
+    /// Why the factorization failed ([`Direct::failed`]): every solve
+    /// returns it.
+    failure: Option<Error>,
 }
 
 /// Rows, columns (1-based) and values of matrix entries.
@@ -137,10 +140,30 @@ fn metis_order<C: Communicator>(
     }
     let layout = Layout::new(world, flat.len());
     let all = layout.gather(world, &flat);
-    if world.rank() != 0 {
-        return Ok(Vec::new());
-    }
-    let n = mesh.global_nodes;
+    drop(flat);
+    let order = if world.rank() == 0 {
+        host_order(&all, mesh.global_nodes, d, schur_nodes, comps)
+    } else {
+        Ok(Vec::new())
+    };
+    // METIS runs on the host alone: its failure is made collective.
+    let (verdict, order) = match order {
+        Ok(order) => (None, order),
+        Err(e) => (Some(e), Vec::new()),
+    };
+    host_verdict(world, verdict)?;
+    Ok(order)
+}
+
+/// [`metis_order`] on the host, from the gathered lists `all` (node,
+/// count, neighbours...).
+fn host_order(
+    all: &[f64],
+    n: usize,
+    d: usize,
+    schur_nodes: &[usize],
+    comps: &[usize],
+) -> Result<Vec<i32>, Error> {
     let mut xadj: Vec<i32> = vec![0; n + 1];
     let mut lists: Vec<Vec<i32>> = vec![Vec::new(); n];
     let mut p = 0;
@@ -171,6 +194,11 @@ fn metis_order<C: Communicator>(
                 perm.as_mut_ptr(),
                 iperm.as_mut_ptr(),
             );
+            if r == metis_sys::rstatus_et_METIS_ERROR_MEMORY {
+                return Err(Error::OutOfMemory(format!(
+                    "METIS could not allocate the nested-dissection ordering of {n} nodes on rank 0"
+                )));
+            }
             if r != metis_sys::rstatus_et_METIS_OK {
                 return Err(Error::Internal(format!("METIS_NodeND failed ({r})")));
             }
@@ -277,15 +305,63 @@ fn choose_ordering<C: Communicator>(
 }
 
 /// A failure found on the host only (`failed` is read there), made
-/// collective: every rank returns the same error, none waits in a later
-/// collective call.
-fn host_verdict<C: Communicator>(world: &C, failed: bool, what: &str) -> Result<(), Error> {
-    let mut status = if failed { 1.0f64 } else { 0.0 };
+/// collective: every rank returns an error of the same kind (the host's
+/// own, with its message; the others' one of that kind, whose message
+/// nobody prints: only rank 0 prints a collective error), none waits in a
+/// later collective call.
+fn host_verdict<C: Communicator>(world: &C, failed: Option<Error>) -> Result<(), Error> {
+    // The kind, as the exit status of the error (0: none failed).
+    let mut status = failed.as_ref().map_or(0, |e| e.exit_code());
     world.process_at_rank(0).broadcast_into(&mut status);
-    if status != 0.0 {
-        return Err(Error::LinearSolver(what.into()));
+    match (status, failed) {
+        (0, _) => Ok(()),
+        (_, Some(e)) => Err(e),
+        (s, None) if s == crate::error::EXIT_OUT_OF_MEMORY => {
+            Err(Error::OutOfMemory("on rank 0".into()))
+        }
+        (3, None) => Err(Error::LinearSolver("on rank 0".into())),
+        (_, None) => Err(Error::Internal("on rank 0".into())),
     }
-    Ok(())
+}
+
+/// [`host_verdict`] of a dense failure of the host (`failed`): the
+/// linear-solver error `what`.
+fn host_failed<C: Communicator>(world: &C, failed: bool, what: &str) -> Result<(), Error> {
+    host_verdict(world, failed.then(|| Error::LinearSolver(what.into())))
+}
+
+/// The error of a dense Schur array of order `m` that rank 0 cannot
+/// allocate (`bytes`).
+fn schur_memory(m: usize, bytes: usize) -> Error {
+    Error::OutOfMemory(format!(
+        "rank 0 cannot allocate the dense Schur complement on the {m} contact unknowns ({:.1} MiB a copy); -ubr_condense_max 0 solves without it, in less memory on rank 0",
+        bytes as f64 / (1u64 << 20) as f64
+    ))
+}
+
+/// The host's Schur complement as MUMPS returned it, its dense Cholesky
+/// factor, and the host's error when the factorization fails (a matrix
+/// that is not positive definite: `K_r` singular or nearly so).
+fn schur_factor<C: Communicator>(
+    world: &C,
+    mumps: &Mumps,
+    m: usize,
+) -> (Vec<f64>, Option<SpdFactor>, Option<Error>) {
+    if world.rank() != 0 {
+        return (Vec::new(), None, None);
+    }
+    let copies = crate::dense::try_copy(mumps.schur_upper())
+        .and_then(|s_raw| Ok((crate::dense::try_copy(&s_raw)?, s_raw)));
+    let (s, s_raw) = match copies {
+        Ok(c) => c,
+        Err(bytes) => return (Vec::new(), None, Some(schur_memory(m, bytes))),
+    };
+    match SpdFactor::new(m, s) {
+        Ok(f) => (s_raw, Some(f), None),
+        Err(k) => (s_raw, None, Some(Error::LinearSolver(format!(
+            "the dense factorization of the Schur complement on the {m} contact unknowns failed (LAPACK's Cholesky: its leading minor of order {k} is not positive definite): the matrix K + r B^T W B is singular or nearly so"
+        )))),
+    }
 }
 
 impl Direct {
@@ -348,40 +424,62 @@ impl Direct {
             .collect();
         let m = layout.total() * comps.len();
         let dof_layout = Layout::new(world, mesh.owned_count * d);
+        let mut prepared = Ok(());
         if condense {
             let listvar: Vec<i32> = contact_global
                 .iter()
                 .flat_map(|&g| comps.iter().map(move |&c| (g * d + c + 1) as i32))
                 .collect();
-            mumps.set_schur(m, listvar);
+            let failed = mumps
+                .set_schur(m, listvar)
+                .err()
+                .map(|bytes| schur_memory(m, bytes));
+            prepared = host_verdict(world, failed);
         }
         let schur_nodes: &[usize] = if condense { &contact_global } else { &[] };
-        let ordering = choose_ordering(world, &mut mumps, mesh, adjacency, schur_nodes, comps)?;
+        // The analysis may fail as the factorization may (memory): kept too.
+        let analysis = prepared
+            .and_then(|()| choose_ordering(world, &mut mumps, mesh, adjacency, schur_nodes, comps));
+        let (ordering, analysed) = match analysis {
+            Ok(ordering) => (ordering, Ok(())),
+            Err(e) => ("not analysed".to_string(), Err(e)),
+        };
         let ev_factor = LogEvent::register("MUMPSFactorNum")?;
         let ev_solve = LogEvent::register("MUMPSSolve")?;
         let ev_schur = LogEvent::register("SchurSolve")?;
-        {
-            let _e = ev_factor.begin();
-            mumps.factorize()?;
+        let mut direct = Direct {
+            mumps,
+            ev_factor,
+            ev_solve,
+            ev_schur,
+            factorizations: 1,
+            dofs: dof_layout,
+            schur: None,
+            flops: 0.0,
+            ordering,
+            all: Vec::new(),
+            kept,
+            reduced: 0,
+            failure: None,
+        };
+        if let Err(e) = analysed {
+            return Direct::failed(direct, e);
         }
-        let flops = mumps.rinfog(3);
-        let schur = if condense {
-            let (mut s_raw, mut s) = (Vec::new(), None);
-            let mut status = 0.0f64;
+        let factorized = {
+            let _e = direct.ev_factor.begin();
+            direct.mumps.factorize()
+        };
+        direct.flops = direct.mumps.rinfog(3);
+        if let Err(e) = factorized {
+            return Direct::failed(direct, e);
+        }
+        if condense {
             let _e = LogEvent::register("SchurFactor")?.begin();
-            if world.rank() == 0 {
-                s_raw = mumps.schur_upper().to_vec();
-                match SpdFactor::new(m, s_raw.clone()) {
-                    Ok(f) => s = Some(f),
-                    Err(_) => status = 1.0,
-                }
+            let (s_raw, s, failed) = schur_factor(world, &direct.mumps, m);
+            if let Err(e) = host_verdict(world, failed) {
+                return Direct::failed(direct, e);
             }
-            host_verdict(
-                world,
-                status != 0.0,
-                "the dense factorization of the Schur complement failed",
-            )?;
-            Some(SchurPart {
+            direct.schur = Some(SchurPart {
                 m,
                 layout: Layout::new(world, surface.cs.len() * comps.len()),
                 s_raw,
@@ -390,24 +488,34 @@ impl Direct {
                 shifted_on: false,
                 rhs: vec![0.0; if world.rank() == 0 { m } else { 0 }],
                 sol: vec![0.0; if world.rank() == 0 { m } else { 0 }],
-            })
-        } else {
-            None
-        };
-        Ok(Direct {
-            mumps,
-            ev_factor,
-            ev_solve,
-            ev_schur,
-            factorizations: 1,
-            dofs: dof_layout,
-            schur,
-            flops,
-            ordering,
-            all: Vec::new(),
-            kept,
-            reduced: 0,
-        })
+            });
+        }
+        Ok(direct)
+    }
+
+    /// An analysis or factorization that failed in a way the run reports
+    /// as its outcome (a failed linear solve, exit status 3, or memory, 4:
+    /// collective errors) is kept, not returned: the problem is still set
+    /// up, every later solve returns it ([`Direct::failure`]), and the run
+    /// writes its outputs before it ends with it. Any other error is
+    /// returned.
+    fn failed(mut direct: Direct, e: Error) -> Result<Direct, Error> {
+        if !matches!(e, Error::LinearSolver(_) | Error::OutOfMemory(_)) {
+            return Err(e);
+        }
+        direct.schur = None;
+        direct.failure = Some(e);
+        Ok(direct)
+    }
+
+    /// The failure of the factorization, if it failed (the same on every rank).
+    pub fn failure(&self) -> Option<&Error> {
+        self.failure.as_ref()
+    }
+
+    /// `Err` with the failure of the factorization, if it failed.
+    fn usable(&self) -> Result<(), Error> {
+        self.failure.clone().map_or(Ok(()), Err)
     }
 
     pub fn is_condensed(&self) -> bool {
@@ -473,6 +581,7 @@ impl Direct {
         cols: &mut [f64],
         k: usize,
     ) -> Result<(), Error> {
+        self.usable()?;
         let _e = self.ev_solve.begin();
         let host = world.rank() == 0;
         let mut all = self.gather_columns(world, cols, k);
@@ -495,7 +604,7 @@ impl Direct {
                         red[j * m..(j + 1) * m].copy_from_slice(&sp.sol);
                     }
                 }
-                host_verdict(world, status != 0.0, "the dense Schur solve failed")?;
+                host_failed(world, status != 0.0, "the dense Schur solve failed")?;
                 self.mumps.solve(&mut all, k, 2)?;
             }
         }
@@ -520,6 +629,7 @@ impl Direct {
         x: &mut [f64],
         keep: usize,
     ) -> Result<(), Error> {
+        self.usable()?;
         let _e = self.ev_solve.begin();
         let host = world.rank() == 0;
         let keep = keep.max(1);
@@ -542,7 +652,7 @@ impl Direct {
             s.solve(&self.mumps.redrhs_mut()[..sp.m], &mut sp.sol)
                 .is_err()
         };
-        host_verdict(world, failed, "the dense Schur solve failed")?;
+        host_failed(world, failed, "the dense Schur solve failed")?;
         sp.layout.scatter(world, &sp.sol, x);
         Ok(())
     }
@@ -562,6 +672,7 @@ impl Direct {
         k: usize,
         cols: &mut [f64],
     ) -> Result<bool, Error> {
+        self.usable()?;
         if k == 0 || self.reduced != k {
             return Ok(false);
         }
@@ -599,6 +710,7 @@ impl Direct {
         c: &[f64],
         x: &mut [f64],
     ) -> Result<(), Error> {
+        self.usable()?;
         let _e = self.ev_schur.begin();
         let sp = self.schur.as_mut().expect("condensed");
         sp.layout.gather_into(world, c, &mut sp.rhs);
@@ -611,7 +723,7 @@ impl Direct {
             .expect("the host has S");
             s.solve(&sp.rhs, &mut sp.sol).is_err()
         };
-        host_verdict(world, failed, "the dense Schur solve failed")?;
+        host_failed(world, failed, "the dense Schur solve failed")?;
         sp.layout.scatter(world, &sp.sol, x);
         Ok(())
     }
@@ -639,6 +751,7 @@ impl Direct {
         blocks: &[f64],
         d: usize,
     ) -> Result<(), Error> {
+        self.usable()?;
         let sp = self.schur.as_mut().expect("condensed");
         let layout = Layout::new(world, blocks.len());
         let all = layout.gather(world, blocks);
@@ -666,7 +779,7 @@ impl Direct {
                 status = 1.0;
             }
         }
-        host_verdict(
+        host_failed(
             world,
             status != 0.0,
             "the factorization of the shifted Schur complement failed",
@@ -700,28 +813,30 @@ impl Direct {
                 "an entry left out of MUMPS' input is no longer zero".into(),
             ));
         }
+        self.usable()?;
         self.reduced = 0;
-        {
+        let factorized = {
             let _e = self.ev_factor.begin();
-            self.mumps.factorize()?;
-        }
+            self.mumps.factorize()
+        };
         self.factorizations += 1;
-        if let Some(sp) = self.schur.as_mut() {
-            let mut status = 0.0f64;
-            if world.rank() == 0 {
-                sp.s_raw.clear();
-                sp.s_raw.extend_from_slice(self.mumps.schur_upper());
-                match SpdFactor::new(sp.m, sp.s_raw.clone()) {
-                    Ok(f) => sp.s = Some(f),
-                    Err(_) => status = 1.0,
-                }
+        let verdict = factorized.and_then(|()| match self.schur.as_mut() {
+            Some(sp) => {
+                // The old factor goes first (the host holds one S at a time).
+                sp.s = None;
+                let (s_raw, s, failed) = schur_factor(world, &self.mumps, sp.m);
+                (sp.s_raw, sp.s, sp.shifted_on) = (s_raw, s, false);
+                host_verdict(world, failed)
             }
-            host_verdict(
-                world,
-                status != 0.0,
-                "the dense factorization of the Schur complement failed",
-            )?;
-            sp.shifted_on = false;
+            None => Ok(()),
+        });
+        if let Err(e) = verdict {
+            // No factorization to solve with any more.
+            if matches!(e, Error::LinearSolver(_) | Error::OutOfMemory(_)) {
+                self.schur = None;
+                self.failure = Some(e.clone());
+            }
+            return Err(e);
         }
         Ok(())
     }

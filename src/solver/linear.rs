@@ -172,11 +172,25 @@ impl LinearSolver {
         }
     }
 
+    /// Why the one factorization failed, when it did (the direct back-end
+    /// keeps such a failure, the same on every rank: the problem is set up,
+    /// every solve returns it, and the run reports it with its outputs).
+    pub fn failure(&self) -> Option<Error> {
+        match &self.engine {
+            Engine::Direct(d) => d.failure().cloned(),
+            Engine::Ksp(_) => None,
+        }
+    }
+
     /// Turns the condensed solves on (a direct engine factorized with the
     /// Schur complement on the components `comps` of the candidates): `y0`,
     /// the Schur components of `u_C` for rhs0, from one condensation and a
-    /// dense solve (no expansion).
+    /// dense solve (no expansion). Nothing to do after a failed
+    /// factorization ([`LinearSolver::failure`]).
     pub fn condense(&mut self, surface: &Surface, comps: &[usize]) -> Result<(), Error> {
+        if self.failure().is_some() {
+            return Ok(());
+        }
         let m = match &self.engine {
             Engine::Direct(d) if d.is_condensed() => d.schur_size(),
             _ => {

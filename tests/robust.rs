@@ -1,0 +1,212 @@
+//! Trust at the edges: a run that runs out of memory ends every rank
+//! promptly with one line naming memory and exit status 4 (it hung in
+//! OpenBLAS' allocator before); a run that fails after the assembly (a
+//! failed factorization or linear solve, memory in MUMPS) still writes its
+//! report and contact CSV, with `converged: false` and the message under
+//! `failure`, what it did not compute null.
+mod common;
+use common::*;
+use std::time::Instant;
+
+/// `mpirun -n ranks ubr-petsc args... -report R -contact_output C`, each
+/// rank under an address-space limit of `limit_kb` when given (`ulimit -v`
+/// in a shell that then runs the program, so that mpirun itself is not
+/// limited), ended by `timeout` (exit 124) if it takes longer than
+/// `seconds`. Returns the run and the scratch directory of R and C.
+fn run(
+    name: &str,
+    ranks: usize,
+    limit_kb: Option<u64>,
+    seconds: u64,
+    args: &[&str],
+) -> (Run, std::path::PathBuf) {
+    let dir = scratch(name);
+    let (rep, csv) = (dir.join("report.json"), dir.join("contact.csv"));
+    let (mut cmd, _session) = mpi_command("timeout");
+    cmd.args(["-k", "10", &seconds.to_string(), "mpirun", "-n"])
+        .arg(ranks.to_string());
+    if let Some(kb) = limit_kb {
+        cmd.args([
+            "bash",
+            "-c",
+            &format!("ulimit -v {kb} && exec \"$0\" \"$@\""),
+        ]);
+    }
+    cmd.arg(BIN).args(args);
+    cmd.arg("-report")
+        .arg(&rep)
+        .arg("-contact_output")
+        .arg(&csv);
+    let t = Instant::now();
+    let out = cmd.output().expect("timeout and mpirun run");
+    let run = Run {
+        status: out.status.code(),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        seconds: t.elapsed().as_secs_f64(),
+    };
+    (run, dir)
+}
+
+/// The report of a failed run: `converged` false, `failure` the message
+/// the run printed (its first line on stderr that carries it), the
+/// contact CSV one row per candidate.
+fn failed_report(run: &Run, dir: &std::path::Path, candidates: usize) -> serde_json::Value {
+    let rep = report(&dir.join("report.json"));
+    assert_eq!(rep["converged"], false, "{rep}");
+    let failure = rep["failure"]
+        .as_str()
+        .unwrap_or_else(|| panic!("no failure in the report: {rep}"));
+    assert!(
+        run.stderr.lines().any(|l| l == failure),
+        "the report's failure is not the printed message:\n{failure}\nstderr:\n{}",
+        run.stderr
+    );
+    assert_eq!(num(&rep, "contact_nodes") as usize, candidates);
+    assert_eq!(contact_csv(&dir.join("contact.csv")).len(), candidates);
+    rep
+}
+
+#[test]
+fn a_memory_limit_ends_every_rank_with_exit_4() {
+    // 560 MB of address space per rank: above what MPI, PETSc and
+    // OpenBLAS' 128 MiB work space take to start (about 430 MB here),
+    // below what the 10761-node block needs (about 620 MB). Before, at this
+    // limit, rank 0 spun for ever in OpenBLAS' allocator (its work space,
+    // first mapped in MUMPS' factorization) and rank 1 waited in MUMPS.
+    // Where the limit is met may vary (MUMPS' factorization here; OpenBLAS'
+    // work space at start-up, PETSc, a Rust allocation at tighter limits):
+    // every one ends the same way.
+    let (run, dir) = run(
+        "oom-ulimit",
+        2,
+        Some(560_000),
+        120,
+        &[
+            "-options_file",
+            "options/block3d",
+            "-mesh",
+            "meshes/block3d_10761.msh",
+        ],
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_ne!(run.status, Some(124), "hung:\n{}", run.stderr);
+    assert_eq!(
+        run.status,
+        Some(4),
+        "stdout:\n{}\nstderr:\n{}",
+        run.stdout,
+        run.stderr
+    );
+    let named: Vec<&str> = run
+        .stderr
+        .lines()
+        .filter(|l| l.contains("error: out of memory: "))
+        .collect();
+    assert!(!named.is_empty(), "no line names memory:\n{}", run.stderr);
+    assert!(!run.stderr.contains("internal error"), "{}", run.stderr);
+    assert!(run.seconds < 60.0, "took {:.1} s", run.seconds);
+}
+
+#[test]
+fn mumps_out_of_memory_writes_the_report() {
+    // MUMPS' own memory cap (ICNTL(23), MB per rank) far below what the
+    // factorization needs: INFOG(1) = -19 on every rank, after the
+    // assembly. Exit 4, and the report and CSV as for a run that did not
+    // converge.
+    let (run, dir) = run(
+        "oom-mumps",
+        2,
+        None,
+        120,
+        &[
+            "-options_file",
+            "options/block3d",
+            "-mesh",
+            "meshes/block3d_2357.msh",
+            "-mat_mumps_icntl_23",
+            "5",
+        ],
+    );
+    assert_eq!(run.status, Some(4), "stderr:\n{}", run.stderr);
+    let rep = failed_report(&run, &dir, 262);
+    let failure = rep["failure"].as_str().unwrap();
+    assert!(
+        failure.starts_with("error: out of memory: MUMPS factorization needs"),
+        "{failure}"
+    );
+    assert!(failure.contains("ICNTL(23)"), "{failure}");
+    // Nothing ran: no iteration, no estimate, no r choice.
+    assert_eq!(rep["iterations"], 0);
+    assert_eq!(rep["linear_solves"], 0);
+    assert!(rep["lambda_error_estimate"].is_null(), "{rep}");
+    assert!(rep["criterion"].is_null(), "{rep}");
+    assert!(rep["r_estimate"].is_null(), "{rep}");
+    assert_eq!(rep["r_source"], "auto");
+    assert_eq!(num(&rep, "contact_force"), 0.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_r_far_outside_the_range_is_named_and_the_report_written() {
+    // r = 1e-30 on the floating Hertz body (contact alone holds it along
+    // n): K + r B^T W B is singular to round-off, and the dense Cholesky
+    // factorization of its Schur complement (one rank) fails. Before: no
+    // report, and a message that did not name r.
+    let (run, dir) = run(
+        "tiny-r",
+        1,
+        None,
+        120,
+        &["-options_file", "options/hertz", "-ubr_r", "1e-30"],
+    );
+    assert_eq!(run.status, Some(3), "stderr:\n{}", run.stderr);
+    let rep = failed_report(&run, &dir, 69);
+    let failure = rep["failure"].as_str().unwrap();
+    for part in [
+        "Schur complement",
+        "r = 1e-30 (-ubr_r)",
+        "far outside the range",
+        "-ubr_r auto",
+    ] {
+        assert!(failure.contains(part), "'{part}' not in: {failure}");
+    }
+    assert_eq!(rep["iterations"], 0);
+    // (serde_json's default parsing may be one ulp off.)
+    assert!((num(&rep, "r") / 1e-30 - 1.0).abs() < 1e-12, "{rep}");
+    assert_eq!(rep["r_source"], "option");
+    assert!(rep["lambda_error_estimate"].is_null(), "{rep}");
+    // The summary is printed, saying so.
+    assert!(run.stdout.contains("NOT converged"), "{}", run.stdout);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_diverged_linear_solve_writes_the_report() {
+    // Unpreconditioned CG capped at 5 iterations: the first solve (of the
+    // r choice) reports DIVERGED_ITS on every rank.
+    let (run, dir) = run(
+        "ksp-diverged",
+        2,
+        None,
+        120,
+        &[
+            "-options_file",
+            "options/hertz",
+            "-ksp_type",
+            "cg",
+            "-pc_type",
+            "none",
+            "-ksp_max_it",
+            "5",
+        ],
+    );
+    assert_eq!(run.status, Some(3), "stderr:\n{}", run.stderr);
+    let rep = failed_report(&run, &dir, 69);
+    let failure = rep["failure"].as_str().unwrap();
+    assert!(failure.contains("DIVERGED_ITS"), "{failure}");
+    assert_eq!(rep["iterations"], 0);
+    assert!(rep["lambda_error_estimate"].is_null(), "{rep}");
+    assert!(rep["r_estimate"].is_null(), "{rep}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
