@@ -238,11 +238,14 @@ fn iterations(m: &Results) {
                 res.iterations, verdict(res.converged), res.last.criterion, s.ubr.rtol, res.last.residual, s.ubr.residual_tol
             );
         } else {
+            let estimate = res
+                .error_estimate
+                .filter(|e| !e.is_nan())
+                .map_or("not estimated".to_string(), |e| format!("{e:.3e}"));
             println!(
-                "  iterations      {}, {}: estimated error of lambda {:.3e} (relative, max norm; target {:.1e}); the paper's (4.16) {:.3e}",
+                "  iterations      {}, {}: estimated error of lambda {estimate} (relative, max norm; target {:.1e}); the paper's (4.16) {:.3e}",
                 res.iterations,
                 verdict(res.converged),
-                res.error_estimate.unwrap_or(f64::NAN),
                 s.ubr.lambda_rtol,
                 res.last.criterion
             );

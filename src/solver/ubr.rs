@@ -290,6 +290,10 @@ pub fn ubr<C: Communicator>(
     let mut out = UbrOutcome {
         criterion: f64::NAN,
         residual: f64::INFINITY,
+        // Unknown until an evaluation: null in the report.
+        error_estimate: f64::NAN,
+        p: f64::NAN,
+        k: f64::NAN,
         ..Default::default()
     };
     if root && ctl.monitor {
@@ -871,7 +875,7 @@ fn stalled(
         )
     };
     format!(
-        "{name} stalled: its residual has not halved in the last {} iterations (best {:.3e}), stopped after {its} of -ubr_max_it {}; {target}; {cause}",
+        "{name} stalled: its best residual has not fallen by 3% in the last {} iterations (best {:.3e}), stopped after {its} of -ubr_max_it {}; {target}; {cause}",
         progress.since, progress.best, ctl.max_it
     )
 }
