@@ -132,6 +132,8 @@ pub struct UbrSettings {
     /// Condense the UBR solve onto the contact unknowns when there are at
     /// most this many (None: the default of the dimension, see `-help`).
     pub condense_max: Option<usize>,
+    /// Several ranks: MUMPS returns the Schur complement distributed.
+    pub schur_distributed: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -469,6 +471,7 @@ fn ubr_settings() -> Result<UbrSettings, Error> {
         mumps_direct: UBR_MUMPS_DIRECT.get()?,
         sbaij: UBR_SBAIJ.get()?,
         condense_max: UBR_CONDENSE_MAX.count()?,
+        schur_distributed: UBR_SCHUR_DISTRIBUTED.get()?,
         dual_rtol: positive(
             UBR_DUAL_RTOL.name,
             UBR_DUAL_RTOL.real()?.unwrap_or(10.0 * rtol),

@@ -296,3 +296,66 @@ fn refactorization_of_the_trimmed_input() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `-ubr_schur_distributed 1` (issue "Scaling studies", item 2): MUMPS
+/// returns the Schur complement on a 1 x P grid and rank 0 gathers it. The
+/// same contact stresses as the centralized Schur complement to round-off,
+/// on 2, 3 and 4 ranks, 2D and 3D, frictionless and Coulomb, and the
+/// summary says which layout ran.
+#[test]
+fn distributed_schur_equals_centralized() {
+    let scenes: [&[&str]; 3] = [
+        &[
+            "-options_file",
+            "options/hertz",
+            "-mesh",
+            "meshes/hertz_1692.msh",
+            "-ubr_lambda_rtol",
+            "1e-10",
+        ],
+        &[
+            "-options_file",
+            "options/block3d",
+            "-mesh",
+            "meshes/block3d_739.msh",
+            "-ubr_lambda_rtol",
+            "1e-10",
+        ],
+        &[
+            "-options_file",
+            "options/block3d-coulomb",
+            "-mesh",
+            "meshes/block3d_739.msh",
+            "-ubr_lambda_rtol",
+            "1e-10",
+        ],
+    ];
+    for (k, scene) in scenes.iter().enumerate() {
+        for ranks in [2, 3, 4] {
+            let (_, _, central) = solve_rows(&format!("schur_c{k}_{ranks}"), ranks, scene);
+            let mut args = scene.to_vec();
+            args.extend_from_slice(&["-ubr_schur_distributed", "1"]);
+            let (run, _, dist) = solve_rows(&format!("schur_d{k}_{ranks}"), ranks, &args);
+            assert!(
+                run.stdout
+                    .contains("the Schur complement from MUMPS distributed over the ranks"),
+                "{}",
+                run.stdout
+            );
+            let e = max_pressure_gap(&dist, &central);
+            assert!(
+                e <= 1e-10,
+                "scene {k}, -n {ranks}: pressures differ by {e:.2e}"
+            );
+            let peak = central
+                .iter()
+                .map(|r| r.lambda_t.iter().map(|x| x * x).sum::<f64>().sqrt())
+                .fold(0.0, f64::max);
+            for (a, b) in dist.iter().zip(&central) {
+                for c in 0..3 {
+                    assert!((a.lambda_t[c] - b.lambda_t[c]).abs() <= 1e-10 * peak.max(1e-300));
+                }
+            }
+        }
+    }
+}

@@ -142,12 +142,12 @@ pub fn inert(
         }
         if !solver.default_direct {
             rule(
-                &[UBR_MUMPS_DIRECT.name, UBR_CONDENSE_MAX.name],
+                &[UBR_MUMPS_DIRECT.name, UBR_CONDENSE_MAX.name, UBR_SCHUR_DISTRIBUTED.name],
                 "it applies to the default direct solver (a MUMPS factorization, -ksp_type preonly), and the PETSc options choose another",
             );
         } else if !s.ubr.mumps_direct {
             rule(
-                &[UBR_CONDENSE_MAX.name],
+                &[UBR_CONDENSE_MAX.name, UBR_SCHUR_DISTRIBUTED.name],
                 "the condensation needs MUMPS driven by the program (-ubr_mumps_direct 1), and -ubr_mumps_direct is 0",
             );
         }

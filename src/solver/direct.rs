@@ -43,6 +43,9 @@ const OWNED_ICNTL: [usize; 6] = [5, 18, 19, 20, 21, 26];
 /// The contact part: the Schur complement on the host.
 struct SchurPart {
     m: usize,
+    /// Whether MUMPS returns it distributed (gathered on the host after
+    /// each factorization) or centralized.
+    distributed: bool,
     layout: Layout,
     /// Host: S at the assembled r (unfactored; its upper triangle,
     /// column-major, as MUMPS returns it) and factorized, and S at the
@@ -344,13 +347,13 @@ fn schur_memory(m: usize, bytes: usize) -> Error {
 /// that is not positive definite: `K_r` singular or nearly so).
 fn schur_factor<C: Communicator>(
     world: &C,
-    mumps: &Mumps,
+    upper: &[f64],
     m: usize,
 ) -> (Vec<f64>, Option<SpdFactor>, Option<Error>) {
     if world.rank() != 0 {
         return (Vec::new(), None, None);
     }
-    let copies = crate::dense::try_copy(mumps.schur_upper())
+    let copies = crate::dense::try_copy(upper)
         .and_then(|s_raw| Ok((crate::dense::try_copy(&s_raw)?, s_raw)));
     let (s, s_raw) = match copies {
         Ok(c) => c,
@@ -364,12 +367,90 @@ fn schur_factor<C: Communicator>(
     }
 }
 
+/// Column block of a distributed Schur complement (ScaLAPACK's NB).
+const SCHUR_BLOCK: usize = 64;
+
+/// The number of rows or columns of an order-`n` matrix that process `p`
+/// of `procs` holds in blocks of `nb` (ScaLAPACK's NUMROC, first block on
+/// process 0).
+fn numroc(n: usize, nb: usize, p: usize, procs: usize) -> usize {
+    let blocks = n / nb;
+    let mut count = (blocks / procs) * nb;
+    let extra = blocks % procs;
+    if p < extra {
+        count += nb;
+    } else if p == extra {
+        count += n % nb;
+    }
+    count
+}
+
+/// The distributed Schur complement (each rank's column blocks of the
+/// 1 x P grid, `local`, column-major with every row) gathered on the host
+/// as the whole `m x m` matrix, column-major (empty elsewhere). Process
+/// column p of MUMPS' grid is rank p; a part of another size than that
+/// mapping gives is an internal error.
+fn gather_schur<C: Communicator>(
+    world: &C,
+    local: &[f64],
+    m: usize,
+    nb: usize,
+) -> Result<Vec<f64>, Error> {
+    let procs = world.size() as usize;
+    let mine = numroc(m, nb, world.rank() as usize, procs) * m;
+    let part = &local[..mine.min(local.len())];
+    let layout = Layout::new(world, part.len());
+    let all = layout.gather(world, part);
+    let ok =
+        world.rank() != 0 || (0..procs).all(|p| layout.count(p) == numroc(m, nb, p, procs) * m);
+    host_verdict(
+        world,
+        (!ok).then(|| {
+            Error::Internal(
+                "the distributed Schur complement's parts are not the 1 x P grid's".into(),
+            )
+        }),
+    )?;
+    if world.rank() != 0 {
+        return Ok(Vec::new());
+    }
+    let mut full = crate::dense::try_zeros(m * m).map_err(|bytes| schur_memory(m, bytes))?;
+    let mut offset = 0;
+    for p in 0..procs {
+        let nloc = numroc(m, nb, p, procs);
+        for jl in 0..nloc {
+            let j = (jl / nb) * procs * nb + p * nb + jl % nb;
+            full[j * m..(j + 1) * m].copy_from_slice(&all[offset + jl * m..offset + (jl + 1) * m]);
+        }
+        offset += nloc * m;
+    }
+    Ok(full)
+}
+
+/// The Schur complement on the host after a factorization (its upper
+/// triangle column-major; empty elsewhere): MUMPS' own array, or the
+/// distributed parts gathered.
+fn host_schur<'a, C: Communicator>(
+    world: &C,
+    mumps: &'a Mumps,
+    m: usize,
+    distributed: bool,
+) -> Result<std::borrow::Cow<'a, [f64]>, Error> {
+    Ok(if distributed {
+        std::borrow::Cow::Owned(gather_schur(world, mumps.schur_local(), m, SCHUR_BLOCK)?)
+    } else {
+        std::borrow::Cow::Borrowed(mumps.schur_upper())
+    })
+}
+
 impl Direct {
     /// Analyses and factorizes `a` (the assembled `K_r`), with the Schur
     /// complement on the contact unknowns when `condense`.
     /// `comps`: the components of each candidate in the Schur complement
     /// (the normal axis alone when frictionless along an axis); `adjacency`:
-    /// the nodal graph METIS orders.
+    /// the nodal graph METIS orders; `distributed_schur`: on several ranks,
+    /// MUMPS returns the Schur complement distributed (gathered on the host
+    /// after each factorization) rather than built on the host.
     pub fn new<C: Communicator>(
         world: &C,
         a: &Matrix,
@@ -377,6 +458,7 @@ impl Direct {
         adjacency: &Adjacency,
         surface: &Surface,
         condense: bool,
+        distributed_schur: bool,
         comps: &[usize],
     ) -> Result<Direct, Error> {
         let d = mesh.dim;
@@ -424,22 +506,45 @@ impl Direct {
             .collect();
         let m = layout.total() * comps.len();
         let dof_layout = Layout::new(world, mesh.owned_count * d);
+        let distributed = condense && distributed_schur && world.size() > 1;
         let mut prepared = Ok(());
         if condense {
             let listvar: Vec<i32> = contact_global
                 .iter()
                 .flat_map(|&g| comps.iter().map(move |&c| (g * d + c + 1) as i32))
                 .collect();
-            let failed = mumps
-                .set_schur(m, listvar)
-                .err()
-                .map(|bytes| schur_memory(m, bytes));
-            prepared = host_verdict(world, failed);
+            if distributed {
+                mumps.set_distributed_schur(m, listvar, world.size() as usize, SCHUR_BLOCK);
+                // MUMPS underestimates the work space of a small distributed
+                // root, and a larger ICNTL(14) after the analysis does not
+                // help (block3d_739, Coulomb, 4 ranks: INFOG(1) = -9 at the
+                // default 20 and at 640 set after it; 60 before it works).
+                if options::get_string("-mat_mumps_icntl_14")?.is_none() {
+                    mumps.set_icntl(14, 60);
+                }
+            } else {
+                let failed = mumps
+                    .set_schur(m, listvar)
+                    .err()
+                    .map(|bytes| schur_memory(m, bytes));
+                prepared = host_verdict(world, failed);
+            }
         }
         let schur_nodes: &[usize] = if condense { &contact_global } else { &[] };
         // The analysis may fail as the factorization may (memory): kept too.
         let analysis = prepared
             .and_then(|()| choose_ordering(world, &mut mumps, mesh, adjacency, schur_nodes, comps));
+        // A distributed Schur complement: each rank's part, sized now.
+        let analysis = analysis.and_then(|ordering| {
+            if condense && distributed {
+                let failed = mumps.size_distributed_schur().err();
+                let worst = super::allreduce_max(world, failed.unwrap_or(0) as f64);
+                if worst > 0.0 {
+                    return Err(schur_memory(m, worst as usize));
+                }
+            }
+            Ok(ordering)
+        });
         let (ordering, analysed) = match analysis {
             Ok(ordering) => (ordering, Ok(())),
             Err(e) => ("not analysed".to_string(), Err(e)),
@@ -475,12 +580,14 @@ impl Direct {
         }
         if condense {
             let _e = LogEvent::register("SchurFactor")?.begin();
-            let (s_raw, s, failed) = schur_factor(world, &direct.mumps, m);
+            let upper = host_schur(world, &direct.mumps, m, distributed)?;
+            let (s_raw, s, failed) = schur_factor(world, &upper, m);
             if let Err(e) = host_verdict(world, failed) {
                 return Direct::failed(direct, e);
             }
             direct.schur = Some(SchurPart {
                 m,
+                distributed,
                 layout: Layout::new(world, surface.cs.len() * comps.len()),
                 s_raw,
                 s,
@@ -520,6 +627,11 @@ impl Direct {
 
     pub fn is_condensed(&self) -> bool {
         self.schur.is_some()
+    }
+
+    /// Whether MUMPS returns the Schur complement distributed.
+    pub fn schur_distributed(&self) -> bool {
+        self.schur.as_ref().is_some_and(|s| s.distributed)
     }
 
     /// Schur complement order (0 without).
@@ -824,7 +936,8 @@ impl Direct {
             Some(sp) => {
                 // The old factor goes first (the host holds one S at a time).
                 sp.s = None;
-                let (s_raw, s, failed) = schur_factor(world, &self.mumps, sp.m);
+                let upper = host_schur(world, &self.mumps, sp.m, sp.distributed)?;
+                let (s_raw, s, failed) = schur_factor(world, &upper, sp.m);
                 (sp.s_raw, sp.s, sp.shifted_on) = (s_raw, s, false);
                 host_verdict(world, failed)
             }

@@ -209,8 +209,14 @@ impl LinearSolver {
         }
         self.comps = comps.to_vec();
         self.y0 = Some((y0.clone(), y0));
+        let layout = match &self.engine {
+            Engine::Direct(d) if d.schur_distributed() => {
+                " (the Schur complement from MUMPS distributed over the ranks)"
+            }
+            _ => "",
+        };
         self.description
-            .push_str(&format!(", condensed on the {m} contact unknowns"));
+            .push_str(&format!(", condensed on the {m} contact unknowns{layout}"));
         Ok(())
     }
 

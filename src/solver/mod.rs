@@ -60,6 +60,11 @@ impl Layout {
         self.counts.iter().map(|&c| c as usize).sum()
     }
 
+    /// Rank `p`'s count.
+    pub fn count(&self, p: usize) -> usize {
+        self.counts[p] as usize
+    }
+
     /// `local` of every rank, in rank order, on the host (empty elsewhere).
     pub fn gather<C: Communicator>(&self, world: &C, local: &[f64]) -> Vec<f64> {
         let mut all = if world.rank() == 0 {
@@ -449,7 +454,16 @@ impl Problem {
                 tangential,
                 dirichlet: &contact_dirichlet,
             };
-            let dm = direct::Direct::new(world, &a, mesh, &adjacency, &surface, condense, &comps)?;
+            let dm = direct::Direct::new(
+                world,
+                &a,
+                mesh,
+                &adjacency,
+                &surface,
+                condense,
+                settings.ubr.schur_distributed,
+                &comps,
+            )?;
             let description = format!(
                 "MUMPS Cholesky, called directly ({}; {:.3e} flops)",
                 dm.ordering, dm.flops
