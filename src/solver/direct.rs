@@ -367,6 +367,15 @@ fn schur_factor<C: Communicator>(
     }
 }
 
+/// Where MUMPS builds the Schur complement of a condensed back-end.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SchurLayout {
+    /// On the host (ICNTL(19) = 1).
+    Centralized,
+    /// Over every rank (ICNTL(19) = 3, a 1 x P grid), gathered on the host.
+    Distributed,
+}
+
 /// Column block of a distributed Schur complement (ScaLAPACK's NB).
 const SCHUR_BLOCK: usize = 64;
 
@@ -448,19 +457,20 @@ impl Direct {
     /// complement on the contact unknowns when `condense`.
     /// `comps`: the components of each candidate in the Schur complement
     /// (the normal axis alone when frictionless along an axis); `adjacency`:
-    /// the nodal graph METIS orders; `distributed_schur`: on several ranks,
-    /// MUMPS returns the Schur complement distributed (gathered on the host
-    /// after each factorization) rather than built on the host.
+    /// the nodal graph METIS orders; `schur`: with the Schur complement on
+    /// the contact unknowns (condensed), built on the host or, on several
+    /// ranks, distributed by MUMPS and gathered on the host after each
+    /// factorization.
     pub fn new<C: Communicator>(
         world: &C,
         a: &Matrix,
         mesh: &LocalMesh,
         adjacency: &Adjacency,
         surface: &Surface,
-        condense: bool,
-        distributed_schur: bool,
+        schur: Option<SchurLayout>,
         comps: &[usize],
     ) -> Result<Direct, Error> {
+        let condense = schur.is_some();
         let d = mesh.dim;
         let n = mesh.global_nodes * d;
         let ev_init = LogEvent::register("MUMPSInit")?.begin();
@@ -506,7 +516,7 @@ impl Direct {
             .collect();
         let m = layout.total() * comps.len();
         let dof_layout = Layout::new(world, mesh.owned_count * d);
-        let distributed = condense && distributed_schur && world.size() > 1;
+        let distributed = schur == Some(SchurLayout::Distributed) && world.size() > 1;
         let mut prepared = Ok(());
         if condense {
             let listvar: Vec<i32> = contact_global

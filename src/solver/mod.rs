@@ -460,8 +460,11 @@ impl Problem {
                 mesh,
                 &adjacency,
                 &surface,
-                condense,
-                settings.ubr.schur_distributed,
+                condense.then_some(if settings.ubr.schur_distributed {
+                    direct::SchurLayout::Distributed
+                } else {
+                    direct::SchurLayout::Centralized
+                }),
                 &comps,
             )?;
             let description = format!(
