@@ -66,15 +66,17 @@ fn direct_solves_equal_petsc_ksp() {
             .as_str()
             .unwrap()
             .contains("preonly + cholesky (mumps)"));
-        // 3D orders by METIS; this 2D scene is small enough for AMD, and
-        // takes METIS when asked for.
+        // One rank: 3D orders by METIS; this 2D scene is small enough for
+        // AMD, and takes METIS when asked for. Several ranks: every rank
+        // orders its part (the parallel nested dissection).
         let default = if name == "block" {
             "METIS nested dissection"
         } else {
             "MUMPS' AMD"
         };
+        let parallel = "nested dissection in parallel";
         let none: &[&str] = &[];
-        let mut runs = vec![(1, none, default), (2, none, default), (3, none, default)];
+        let mut runs = vec![(1, none, default), (2, none, parallel), (3, none, parallel)];
         if name == "hertz" {
             runs.push((2, &["-mat_mumps_icntl_7", "1"], "METIS nested dissection"));
         }
@@ -354,6 +356,84 @@ fn distributed_schur_equals_centralized() {
             for (a, b) in dist.iter().zip(&central) {
                 for c in 0..3 {
                     assert!((a.lambda_t[c] - b.lambda_t[c]).abs() <= 1e-10 * peak.max(1e-300));
+                }
+            }
+        }
+    }
+}
+
+/// The parallel nested dissection (issue "Scaling studies", item 1): on 2,
+/// 3 and 4 ranks every rank orders its own part; the contact stresses equal
+/// the one-rank run's (METIS on rank 0) to 1e-8 at a tight tolerance, 2D
+/// and 3D, frictionless and Coulomb, condensed and full, and with GAMG.
+#[test]
+fn rank_counts_agree_with_the_parallel_ordering() {
+    let scenes: [&[&str]; 5] = [
+        &[
+            "-options_file",
+            "options/hertz",
+            "-mesh",
+            "meshes/hertz_6619.msh",
+        ],
+        &[
+            "-options_file",
+            "options/hertz-coulomb",
+            "-mesh",
+            "meshes/hertz_1692.msh",
+        ],
+        &[
+            "-options_file",
+            "options/block3d",
+            "-mesh",
+            "meshes/block3d_2357.msh",
+        ],
+        &[
+            "-options_file",
+            "options/block3d-coulomb",
+            "-mesh",
+            "meshes/block3d_739.msh",
+            "-ubr_condense_max",
+            "0",
+        ],
+        &[
+            "-options_file",
+            "options/block3d",
+            "-mesh",
+            "meshes/block3d_739.msh",
+            "-ksp_type",
+            "cg",
+            "-pc_type",
+            "gamg",
+            "-ksp_rtol",
+            "1e-12",
+        ],
+    ];
+    for (k, scene) in scenes.iter().enumerate() {
+        let mut args = scene.to_vec();
+        args.extend_from_slice(&["-ubr_lambda_rtol", "1e-10"]);
+        let (_, _, one) = solve_rows(&format!("pnd{k}_1"), 1, &args);
+        let pmax = one.iter().map(|r| r.lambda_n).fold(0.0, f64::max);
+        for ranks in [2, 3, 4] {
+            let (run, _, other) = solve_rows(&format!("pnd{k}_{ranks}"), ranks, &args);
+            if !scene.contains(&"gamg") {
+                assert!(
+                    run.stdout.contains("nested dissection in parallel"),
+                    "{}",
+                    run.stdout
+                );
+            }
+            let e = max_pressure_gap(&other, &one);
+            assert!(
+                e <= 1e-8,
+                "scene {k}, -n {ranks}: pressures differ by {e:.2e}"
+            );
+            for (a, b) in other.iter().zip(&one) {
+                for c in 0..3 {
+                    assert!(
+                        (a.lambda_t[c] - b.lambda_t[c]).abs() <= 1e-8 * pmax,
+                        "scene {k}, -n {ranks}, node {}: friction differs",
+                        a.node
+                    );
                 }
             }
         }

@@ -207,30 +207,14 @@ fn host_order(
             }
         }
     }
-    let mut in_schur = vec![false; n * d];
-    for &g in schur_nodes {
-        for &c in comps {
-            in_schur[g * d + c] = true;
-        }
-    }
-    let mut perm_in = vec![0i32; n * d];
-    let mut next = 0i32;
-    for &g in &perm {
-        let g = g as usize;
-        for c in 0..d {
-            if !in_schur[g * d + c] {
-                next += 1;
-                perm_in[g * d + c] = next;
-            }
-        }
-    }
-    for &g in schur_nodes {
-        for &c in comps {
-            next += 1;
-            perm_in[g * d + c] = next;
-        }
-    }
-    Ok(perm_in)
+    let order: Vec<usize> = perm.iter().map(|&g| g as usize).collect();
+    Ok(super::ordering::dof_permutation(
+        &order,
+        n,
+        d,
+        schur_nodes,
+        comps,
+    ))
 }
 
 /// In 2D, METIS' nested dissection pays for its own time (it is sequential,
@@ -285,6 +269,21 @@ fn choose_ordering<C: Communicator>(
             return Ok(format!("MUMPS ordering ICNTL(7) = {k}"));
         }
         None => {}
+    }
+    if world.size() > 1 {
+        // Several ranks: every rank orders its part at once (2D too: the
+        // sequential METIS' time is what made AMD the better choice there).
+        let perm_in = {
+            let _e = LogEvent::register("ParallelOrdering")?.begin();
+            super::ordering::parallel_nd(world, mesh, adjacency, schur_nodes, comps)?
+        };
+        mumps.set_ordering(perm_in);
+        let _e = ev_analysis.begin();
+        mumps.analyse()?;
+        return Ok(format!(
+            "nested dissection in parallel: METIS on each rank's part, the separators from the partition, over {} ranks",
+            world.size()
+        ));
     }
     if mesh.dim == 3 {
         metis(mumps)?;

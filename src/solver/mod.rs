@@ -11,6 +11,7 @@ pub mod checks;
 pub mod deferred;
 pub mod direct;
 pub mod linear;
+pub mod ordering;
 pub mod outcome;
 pub mod penalty;
 pub mod seat;
