@@ -174,12 +174,13 @@ pub fn parallel_nd<C: Communicator>(
     // Every rank's count of every segment.
     let counts = Layout::new(world, nseg).all_gather(world, &mine);
     let count = |r: usize, s: usize| counts[r * nseg + s] as usize;
-    let mut seg_start = vec![0usize; nseg];
-    let mut total = 0;
-    for s in 0..nseg {
-        seg_start[s] = total;
-        total += (0..p).map(|r| count(r, s)).sum::<usize>();
-    }
+    let seg_start: Vec<usize> = (0..nseg)
+        .scan(0usize, |total, s| {
+            let start = *total;
+            *total += (0..p).map(|r| count(r, s)).sum::<usize>();
+            Some(start)
+        })
+        .collect();
     // This rank's offset inside each segment (the ranks before it).
     let mut offset: Vec<usize> = (0..nseg)
         .map(|s| seg_start[s] + (0..me).map(|r| count(r, s)).sum::<usize>())
@@ -191,8 +192,8 @@ pub fn parallel_nd<C: Communicator>(
         pos[interior[i as usize]] = offset[leaf];
         offset[leaf] += 1;
     }
-    for a in 0..nown {
-        if let Some(s) = sep[a] {
+    for (a, s) in sep.iter().enumerate() {
+        if let Some(s) = s {
             let k = seg_of((s.0, s.1));
             pos[a] = offset[k];
             offset[k] += 1;
