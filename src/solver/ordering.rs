@@ -201,9 +201,9 @@ pub fn parallel_nd<C: Communicator>(
     }
     // (global node, position) of the owned nodes, gathered on the host.
     let mut pairs = Vec::with_capacity(2 * nown);
-    for a in 0..nown {
+    for (a, &at) in pos.iter().enumerate() {
         pairs.push(mesh.node_global[a] as f64);
-        pairs.push(pos[a] as f64);
+        pairs.push(at as f64);
     }
     let all = Layout::new(world, pairs.len()).gather(world, &pairs);
     if world.rank() != 0 {
