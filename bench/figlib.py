@@ -4,7 +4,7 @@ cargo example examples/bench_plot.rs from a JSON spec)."""
 import csv, json, math, os, shutil, statistics, subprocess, sys, tempfile, time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from benchlib import BIN, ROOT, env, solve_time  # noqa: E402,F401
+from benchlib import BIN, ROOT, env, mpirun, solve_time  # noqa: E402,F401
 
 RESULTS = os.path.join(ROOT, "bench", "results")
 PLOTTER = os.path.join(ROOT, "target", "release", "examples", "bench_plot")
@@ -26,7 +26,7 @@ def run(ranks, args, contact=False):
         sys.exit("bench: build first (cargo build --release)")
     with tempfile.TemporaryDirectory() as d:
         rep, con = os.path.join(d, "r.json"), os.path.join(d, "c.csv")
-        cmd = ["mpirun", "-n", str(ranks), BIN] + list(args) + ["-report", rep]
+        cmd = mpirun(ranks) + [BIN] + list(args) + ["-report", rep]
         if contact:
             cmd += ["-contact_output", con]
         p = subprocess.run(cmd, cwd=ROOT, env=env(), capture_output=True, text=True)
