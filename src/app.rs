@@ -8,7 +8,7 @@
 use crate::contact::ContactSet;
 use crate::error::{bad, Error};
 use crate::mesh::{self, distribute, distribute::LocalMesh};
-use crate::options::{self, unused::Unused, Friction, Settings};
+use crate::options::{self, unused::Unused, Friction, Partitioner, Settings};
 use crate::petsc::{self, Events, Stages};
 use crate::progress;
 use crate::report::{self, files, ContactRow, Results, Times, Totals};
@@ -324,6 +324,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     /// partitions it with METIS; each rank receives its part.
     fn make_and_distribute_mesh(&mut self) -> Result<LocalMesh, Error> {
         let (stages, source) = (&self.stages, &self.settings.mesh);
+        let partitioner = self.settings.partition;
         let size = self.world.size() as usize;
         let (mut t_mesh, mut t_partition) = (0.0, 0.0);
         let local = distribute::distribute(
@@ -340,7 +341,10 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                     format!("partitioning {} nodes over {size} ranks", mesh.num_nodes())
                 });
                 let graph = distribute::NodeGraph::new(mesh);
-                let part = distribute::partition_nodes(&graph, size)?;
+                let part = match partitioner.resolve(size) {
+                    Partitioner::Rcb => distribute::partition_rcb(&mesh.coords, mesh.dim, size),
+                    _ => distribute::partition_nodes(&graph, size)?,
+                };
                 let order = distribute::locality_order(&graph, &part, size);
                 drop(graph);
                 let locals = distribute::split(mesh, &part, &order, size);

@@ -33,6 +33,40 @@ pub enum MeshSource {
     },
 }
 
+/// How rank 0 splits the mesh over the ranks (`-partition`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Partitioner {
+    Auto,
+    Metis,
+    Rcb,
+}
+
+impl Partitioner {
+    /// The partitioner a run on `ranks` ranks uses (`Metis` or `Rcb`).
+    pub fn resolve(self, ranks: usize) -> Partitioner {
+        match self {
+            Partitioner::Auto if ranks > 1 => Partitioner::Rcb,
+            Partitioner::Auto => Partitioner::Metis,
+            p => p,
+        }
+    }
+    /// The report's name of the partition a run on `ranks` ranks uses.
+    pub fn name(self, ranks: usize) -> &'static str {
+        match self.resolve(ranks) {
+            _ if ranks == 1 => "none",
+            Partitioner::Rcb => "rcb",
+            _ => "metis",
+        }
+    }
+    /// The summary's words for it.
+    pub fn words(self, ranks: usize) -> &'static str {
+        match self.resolve(ranks) {
+            Partitioner::Rcb => "recursive coordinate bisection",
+            _ => "METIS k-way",
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Friction {
     None,
@@ -139,6 +173,7 @@ pub struct UbrSettings {
 #[derive(Clone, Debug)]
 pub struct Settings {
     pub mesh: MeshSource,
+    pub partition: Partitioner,
     pub young: f64,
     pub nu: f64,
     pub plane_stress: bool,
@@ -584,8 +619,14 @@ impl Settings {
                 .as_deref()
                 .map(str::trim),
         );
+        let partition = match PARTITION.get()? {
+            "metis" => Partitioner::Metis,
+            "rcb" => Partitioner::Rcb,
+            _ => Partitioner::Auto,
+        };
         let mut settings = Settings {
             mesh,
+            partition,
             young,
             nu,
             plane_stress,

@@ -345,10 +345,7 @@ fn distributed_schur_equals_centralized() {
                 run.stdout
             );
             let e = max_pressure_gap(&dist, &central);
-            assert!(
-                e <= 1e-10,
-                "scene {k}, -n {ranks}: pressures differ by {e:.2e}"
-            );
+            assert!(e <= 1e-10, "{tag}: pressures differ by {e:.2e}");
             let peak = central
                 .iter()
                 .map(|r| r.lambda_t.iter().map(|x| x * x).sum::<f64>().sqrt())
@@ -413,8 +410,21 @@ fn rank_counts_agree_with_the_parallel_ordering() {
         args.extend_from_slice(&["-ubr_lambda_rtol", "1e-10"]);
         let (_, _, one) = solve_rows(&format!("pnd{k}_1"), 1, &args);
         let pmax = one.iter().map(|r| r.lambda_n).fold(0.0, f64::max);
-        for ranks in [2, 3, 4] {
-            let (run, _, other) = solve_rows(&format!("pnd{k}_{ranks}"), ranks, &args);
+        // The default split (recursive coordinate bisection) on 2, 3, 4
+        // ranks, and METIS' on 3.
+        for (ranks, partition) in [(2, "auto"), (3, "auto"), (4, "auto"), (3, "metis")] {
+            let mut args = args.clone();
+            args.extend_from_slice(&["-partition", partition]);
+            let tag = format!("pnd{k}_{ranks}_{partition}");
+            let (run, rep, other) = solve_rows(&tag, ranks, &args);
+            let want = if partition == "metis" { "metis" } else { "rcb" };
+            assert_eq!(rep["partition"].as_str(), Some(want), "{tag}");
+            let words = if partition == "metis" {
+                "by METIS k-way"
+            } else {
+                "by recursive coordinate bisection"
+            };
+            assert!(run.stdout.contains(words), "{tag}: {}", run.stdout);
             if !scene.contains(&"gamg") {
                 assert!(
                     run.stdout.contains("nested dissection in parallel"),
@@ -431,7 +441,7 @@ fn rank_counts_agree_with_the_parallel_ordering() {
                 for c in 0..3 {
                     assert!(
                         (a.lambda_t[c] - b.lambda_t[c]).abs() <= 1e-8 * pmax,
-                        "scene {k}, -n {ranks}, node {}: friction differs",
+                        "{tag}, node {}: friction differs",
                         a.node
                     );
                 }

@@ -177,6 +177,66 @@ pub fn partition_nodes(graph: &NodeGraph, nparts: usize) -> Result<Vec<usize>, E
     Ok(part.into_iter().map(|p| p as usize).collect())
 }
 
+/// Recursive coordinate bisection into `nparts` parts, numbered along the
+/// binary tree over the rank range that [`crate::solver::ordering`] builds
+/// (each range `[lo, hi)` split at `lo + (hi - lo) / 2`): each tree node's
+/// nodes are cut by a plane across their longest extent, in the ratio of
+/// the two halves' rank counts, so every part holds n/P nodes (within one)
+/// and the separators of the parallel ordering are the thin layers along
+/// the cutting planes. It needs only the coordinates: O(n log P), against
+/// a graph partition of the whole mesh on rank 0 (METIS: 3.7 s of a 39 s
+/// run on 16 ranks for the 1M-node block).
+pub fn partition_rcb(coords: &[f64], dim: usize, nparts: usize) -> Vec<usize> {
+    let n = coords.len() / dim.max(1);
+    let mut part = vec![0usize; n];
+    if nparts > 1 && n >= nparts {
+        let mut idx: Vec<usize> = (0..n).collect();
+        rcb(coords, dim, &mut idx, 0, nparts, &mut part);
+    } else if nparts > 1 {
+        // Fewer nodes than parts: one node each for the first ranks.
+        for (v, p) in part.iter_mut().enumerate() {
+            *p = v;
+        }
+    }
+    part
+}
+
+fn rcb(coords: &[f64], dim: usize, idx: &mut [usize], lo: usize, hi: usize, part: &mut [usize]) {
+    if hi - lo <= 1 {
+        for &v in idx.iter() {
+            part[v] = lo;
+        }
+        return;
+    }
+    let mid = lo + (hi - lo) / 2;
+    let axis = (0..dim)
+        .map(|d| {
+            let (mn, mx) = idx
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                    let c = coords[v * dim + d];
+                    (a.min(c), b.max(c))
+                });
+            (d, mx - mn)
+        })
+        .fold((0, f64::NEG_INFINITY), |best, (d, w)| {
+            if w > best.1 {
+                (d, w)
+            } else {
+                best
+            }
+        })
+        .0;
+    // Nodes in the ratio of the ranks, each half keeping one node per rank.
+    let len = idx.len();
+    let k = ((len * (mid - lo) + (hi - lo) / 2) / (hi - lo)).clamp(mid - lo, len - (hi - mid));
+    let key = |v: &usize| coords[v * dim + axis];
+    idx.select_nth_unstable_by(k, |a, b| key(a).total_cmp(&key(b)).then(a.cmp(b)));
+    let (left, right) = idx.split_at_mut(k);
+    rcb(coords, dim, left, lo, mid, part);
+    rcb(coords, dim, right, mid, hi, part);
+}
+
 /// The order in which the nodes get their new global numbers: part by part,
 /// and within a part by reverse Cuthill-McKee on the part's subgraph, so that
 /// neighbours get close numbers (Gmsh's own numbering scatters them, which
@@ -588,6 +648,34 @@ mod tests {
         // The bottom group's element (2,3) touches part 1's node 2 (old index 2).
         assert_eq!(locals[1].groups[0].len(), 1);
         assert_eq!(locals[0].groups[0].len(), 2);
+    }
+
+    #[test]
+    fn rcb_parts_are_balanced_and_follow_the_tree() {
+        // A 10 x 3 grid of points cut into 3 parts: the first cut gives
+        // rank 0 one third, the second splits the rest in two.
+        let coords: Vec<f64> = (0..30)
+            .flat_map(|i| [(i % 10) as f64, (i / 10) as f64])
+            .collect();
+        let part = partition_rcb(&coords, 2, 3);
+        for p in 0..3 {
+            assert_eq!(part.iter().filter(|&&q| q == p).count(), 10);
+        }
+        // Cuts across x, the longest extent: part 0 holds the smallest x.
+        let max_x = |p: usize| {
+            (0..30)
+                .filter(|&i| part[i] == p)
+                .map(|i| coords[2 * i])
+                .fold(f64::MIN, f64::max)
+        };
+        let min_x = |p: usize| {
+            (0..30)
+                .filter(|&i| part[i] == p)
+                .map(|i| coords[2 * i])
+                .fold(f64::MAX, f64::min)
+        };
+        assert!(max_x(0) <= min_x(1) && max_x(1) <= min_x(2));
+        assert_eq!(partition_rcb(&coords[..4], 2, 3), vec![0, 1]);
     }
 
     #[test]

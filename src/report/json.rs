@@ -19,6 +19,8 @@ pub struct Report {
     pub stick_nodes: usize,
     pub slip_nodes: usize,
     pub ranks: usize,
+    /// How the mesh was split over the ranks: "metis" or "rcb" ("none" on one rank).
+    pub partition: &'static str,
     pub algorithm: String,
     pub paper_algorithm: &'static str,
     pub friction: &'static str,
@@ -126,6 +128,7 @@ impl Report {
             stick_nodes: m.totals.stick,
             slip_nodes: m.totals.slip,
             ranks: m.ranks,
+            partition: s.partition.name(m.ranks),
             algorithm: s.algorithm.clone(),
             paper_algorithm: res.name,
             friction: s.friction.name(),

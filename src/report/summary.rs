@@ -103,6 +103,13 @@ fn header(m: &Results) {
         "                  {} nodes, {} {}, {} contact candidates",
         local.global_nodes, local.global_cells, local.cell_kinds, m.candidates
     );
+    if m.ranks > 1 {
+        println!(
+            "                  split over {} ranks by {}",
+            m.ranks,
+            s.partition.words(m.ranks)
+        );
+    }
     println!(
         "  material        E = {}, nu = {}, {}",
         given(s.young),

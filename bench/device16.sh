@@ -1,0 +1,43 @@
+#!/bin/bash
+# Strong scaling on a lent 16-core machine in one prepared call (issue "Scaling studies"):
+# the 2D (-mesh_h 0.01) and 3D (-mesh_h 0.0333) direct scenes at 1..16 ranks, the 1M-node
+# GAMG block at 16, and variants. Needs the relocatable bundle (../shared/tools/bundle) in
+# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh
+# Writes $OUT/dev.log (summary lines) and $OUT/runs.txt (every run's whole output).
+set -u
+OUT=${OUT:-/tmp/out}; mkdir -p "$OUT"
+B=$(cd "${BUNDLE:-bundle}" && pwd)
+LOG=$OUT/dev.log; RUNS=$OUT/runs.txt
+exec > >(tee -a "$LOG") 2>&1
+T0=$(date +%s)
+echo "== $(nproc) cores"; lscpu | grep -E "Model name|Socket|NUMA node\(s\)|Thread"; free -g | head -2
+if grep -qw avx512f /proc/cpuinfo; then export OPENBLAS_CORETYPE=SkylakeX; elif grep -qw avx2 /proc/cpuinfo; then export OPENBLAS_CORETYPE=Haswell; fi
+echo "OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE:-}"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OPENBLAS_NUM_THREADS=1
+bash "$B/run.sh" true || { echo "bundle failed"; exit 1; }
+DEADLINE=${DEADLINE:-540}
+one() {  # one RANKS TAG options...
+  local n=$1 tag=$2; shift 2
+  local el=$(( $(date +%s) - T0 ))
+  if [ $el -gt $DEADLINE ]; then echo "SKIP tag=$tag n=$n (elapsed $el s)"; return; fi
+  local lim=$(( DEADLINE + 40 - el )); [ $lim -gt 240 ] && lim=240
+  local s=$(date +%s%N)
+  timeout $lim bash "$B/run.sh" mpirun -n "$n" --bind-to core --map-by core ubr-petsc "$@" > /tmp/o 2>&1
+  local rc=$? e=$(( ($(date +%s%N) - s) / 1000000 ))
+  echo "RUN tag=$tag n=$n rc=$rc wall_ms=$e  [$*]"
+  grep -E "nodes,|linear solver|iterations  |r      |time \(s\)|memory \(MiB\)" /tmp/o | sed 's/^/    /'
+  [ $rc -ne 0 ] && tail -5 /tmp/o | sed 's/^/    ERR /'
+  { echo "######## tag=$tag n=$n rc=$rc wall_ms=$e [$*]"; cat /tmp/o; } >> "$RUNS"
+}
+H2="-options_file options/hertz -mesh_generate hertz2d -mesh_h 0.01"
+H3="-options_file options/block3d -mesh_generate block3d -mesh_h 0.0333"
+G3="-options_file options/block3d -mesh_generate block3d -mesh_h 0.0125 -ksp_type cg -pc_type gamg"
+echo "== 2D direct"; for n in 1 2 4 8; do one $n d2 $H2; done; one 16 d2 $H2 -log_view
+echo "== 3D direct"; for n in 1 2 4 8; do one $n d3 $H3; done; one 16 d3 $H3 -log_view
+echo "== 1M GAMG"; one 16 g3 $G3 -log_view
+echo "== variants"
+one 16 d3dist $H3 -ubr_schur_distributed 1 -log_view
+one 16 d2metis0 $H2 -mat_mumps_icntl_7 1
+one 8 g3 $G3
+one 8 d3dist $H3 -ubr_schur_distributed 1
+echo "== done after $(( $(date +%s) - T0 )) s"
