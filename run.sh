@@ -36,7 +36,25 @@ setup_env() {
   fi
 }
 
+# The Rust that Cargo.toml's rust-version asks for (Debian 12's is too old):
+# one line and exit 1 when cargo is missing or older.
+check_rust() {
+  local need have
+  need=$(sed -n 's/^rust-version *= *"\(.*\)"/\1/p' Cargo.toml)
+  if ! command -v cargo >/dev/null 2>&1 || ! have=$(rustc --version 2>/dev/null); then
+    echo "run.sh: cargo not found: ubr-petsc needs Rust $need or newer; install it with rustup (https://rustup.rs)" >&2
+    exit 1
+  fi
+  have=$(echo "$have" | awk '{print $2}')
+  have=${have%%-*}
+  if [ "$(printf '%s\n%s\n' "$need" "$have" | sort -V | head -n 1)" != "$need" ]; then
+    echo "run.sh: rustc $have is too old: ubr-petsc needs Rust $need or newer; install it with rustup (https://rustup.rs), then 'rustup update'" >&2
+    exit 1
+  fi
+}
+
 build() {
+  check_rust
   cargo build --release --locked --quiet || { echo "run.sh: build failed" >&2; exit 1; }
   [ -x target/release/ubr-petsc ] || { echo "run.sh: build failed" >&2; exit 1; }
 }

@@ -1,6 +1,8 @@
 //! The one error type of the program, a variant per kind of failure, and its
-//! exit status (DESIGN.md): 2 bad input or an ill-posed scene, 3 not
-//! converged, 4 out of memory, anything else a bug. `main` prints it once.
+//! exit status (docs/DESIGN.md, "Exit status"): 1 an error of PETSc or an
+//! internal one (a bug, or the machine), 2 bad input or an ill-posed scene,
+//! 3 not converged, 4 out of memory; `main` also ends a panic with 70 on
+//! every rank. `main` prints the error once.
 //!
 //! Memory that runs out where no error can be returned (a Rust
 //! allocation, a library that does not check its own) ends the run in

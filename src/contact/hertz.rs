@@ -1,5 +1,5 @@
-//! Hertz's analytic contact pressure (DESIGN.md, "Reference"), and where a
-//! candidate lies relative to the contact centre. The one copy of these
+//! Hertz's analytic contact pressure (docs/DESIGN.md, "Reference"), and
+//! where a candidate lies relative to the contact centre. The one copy of these
 //! formulas: the reference comparison, `-tresca_bound hertz` and
 //! `-plot_contact` all use them.
 

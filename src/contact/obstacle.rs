@@ -1,5 +1,5 @@
 //! The rigid obstacle and the gap along the contact direction n
-//! (DESIGN.md, "Gap").
+//! (docs/DESIGN.md, "Discretization": the gap).
 
 /// The rigid obstacle (`-obstacle`).
 #[derive(Clone, Debug, PartialEq)]
@@ -32,11 +32,11 @@ impl Obstacle {
 }
 
 /// Gap from `x` along `n` to the obstacle, or `None` when the line `x + t n`
-/// misses it (ball only; DESIGN.md: candidate only if it meets the sphere at
-/// two points and t2 > 0, then g = t1). A half-ball on its floor is the union
-/// of the ball and the half-space beyond the plane through the centre: the
-/// line enters the ball first where it meets it (t1 <= the plane's t), and
-/// the floor elsewhere, so every node is a candidate.
+/// misses it (ball only; docs/DESIGN.md: candidate only if it meets the
+/// sphere at two points and t2 > 0, then g = t1). A half-ball on its floor
+/// is the union of the ball and the half-space beyond the plane through the
+/// centre: the line enters the ball first where it meets it (t1 <= the
+/// plane's t), and the floor elsewhere, so every node is a candidate.
 pub fn gap(x: &[f64], n: &[f64], obstacle: &Obstacle) -> Option<f64> {
     let along = |p: &[f64]| -> f64 { p.iter().zip(x).zip(n).map(|((p, x), n)| (p - x) * n).sum() };
     match obstacle {

@@ -408,7 +408,7 @@ pub fn centre_gradients(dim: usize, x: &[f64]) -> Vec<f64> {
 /// Nodal weights of a boundary facet, `w_a = int_F N_a dA`, given its
 /// vertices (in a space of any dimension up to 3). A point weighs 1, a
 /// segment gives half its length to each end, a triangle a third of its
-/// area to each vertex (the P1 trapezoidal rule of DESIGN.md). A
+/// area to each vertex (the P1 nodal rule of docs/DESIGN.md). A
 /// quadrilateral is the bilinear surface through its four vertices, and
 /// `w_a` integrates its bilinear shape function over it with 2x2 Gauss
 /// points, `dA = |x_xi x x_eta| dxi deta`: exact for a planar facet, a

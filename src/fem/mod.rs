@@ -300,7 +300,10 @@ pub fn cell_stiffness(
 /// mass. Extra owned diagonal 2x2/3x3 blocks can be added by `extra` before the
 /// final assembly (the UBR term r B^T W B). The rows are built here in
 /// compressed form (the cells taken in the order of their lowest vertex) and
-/// handed to PETSc in one call; the arrays are freed before returning.
+/// handed to PETSc in one call ([`Matrix::new_aij_csr`]), which keeps them
+/// as the matrix's own storage until the matrix is destroyed (on several
+/// ranks split into the owned and the other columns): they are not copied
+/// entry by entry, and not freed here.
 pub fn assemble_stiffness(
     comm: sys::MPI_Comm,
     mesh: &LocalMesh,

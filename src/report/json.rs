@@ -1,5 +1,5 @@
 //! `-report FILE.json`: one schema, a `#[derive(Serialize)]` struct written
-//! by serde_json (and read back by the tests). Keys are DESIGN.md's; a
+//! by serde_json (and read back by the tests). Keys are docs/DESIGN.md's; a
 //! number that is not finite is `null`, and so is an error without a
 //! reference.
 

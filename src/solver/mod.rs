@@ -246,7 +246,9 @@ fn default_solver_options(dim: usize) -> Result<(), Error> {
         options::set_default("-pc_type", "cholesky")?;
         options::set_default("-ksp_type", "preonly")?;
         options::set_default("-pc_factor_mat_solver_type", "mumps")?;
-        // Debian's MUMPS has no METIS/SCOTCH. Measured here: in 2D AMD factorizes
+        // PETSc's MUMPS interface (-ubr_mumps_direct 0; the direct driver,
+        // src/solver/direct.rs, chooses its ordering itself). Debian's
+        // MUMPS has no METIS/SCOTCH. Measured here: in 2D AMD factorizes
         // fastest (0.20 s vs PORD 0.33 s at 75k dofs); in 3D PORD's nested
         // dissection halves the factorization (2.0 s vs AMD 4.2 s at 54k dofs).
         if options::get_string("-pc_factor_mat_solver_type")?.as_deref() == Some("mumps") {
@@ -267,11 +269,13 @@ fn default_solver_options(dim: usize) -> Result<(), Error> {
         // a prescribed displacement can make huge).
         options::set_default("-ksp_converged_use_initial_residual_norm", "1")?;
         if pc.as_deref() == Some("gamg") {
-            // Measured on the 1M-node block (2 ranks, bench/scale3d): PETSc
-            // 3.18's defaults (threshold -1, square_graph 1) set up in 36 s
-            // and take 181 CG iterations in 113 s; dropping graph edges
-            // under 2% and aggressive coarsening on two levels, 24 s and
-            // 190 cheaper iterations in 94 s (total 185 -> 149 s).
+            // Measured on the 1M-node block (2 ranks, bench/scale3d, AIJ
+            // products, the same day, 2026-11-24; bench/README.md): PETSc
+            // 3.18's defaults (threshold -1, square_graph 1) set up in
+            // 29.1 s and take 181 CG iterations, total 158.7 s; dropping
+            // graph edges under 2% and aggressive coarsening on two levels,
+            // 20.6-23.1 s and 190 cheaper iterations, median total 149.6 s
+            // of six runs.
             options::set_default("-pc_gamg_threshold", "0.02")?;
             options::set_default("-pc_gamg_square_graph", "2")?;
         }
@@ -324,8 +328,9 @@ pub fn linear_solver(matrix: &Matrix, mesh: &LocalMesh) -> Result<(Ksp, String, 
 impl Problem {
     /// Assembles `K + r B^T W B` at `r` (none for SSN-C), the lifted load,
     /// and the solver, and factorizes once (a direct solver): the condensed
-    /// back-end where it applies (one rank, MUMPS, few enough contact
-    /// unknowns, see [`CONDENSE_MAX`]).
+    /// back-end where it applies (MUMPS called directly, on any rank count,
+    /// few enough contact unknowns, see [`CONDENSE_MAX`]; not under the
+    /// paper's stop with `-ubr_monitor` or `-plot_history`).
     pub fn setup<C: Communicator>(
         world: &C,
         mesh: &LocalMesh,

@@ -4,11 +4,12 @@
 //! compliance `S_0 = W^{1/2} B K^{-1} B^T W^{1/2}` (over the candidate rows):
 //! with eigenvalues sigma, the iteration's modes contract like
 //! `|1 - r sigma| / (1 + r sigma)`-type factors, balanced when
-//! `r = 1 / sqrt(sigma_min sigma_max)`. That is the rule: in an independent
-//! prototype it landed within 1.4x of the best-r iteration count (Anderson)
-//! on 13 problems, where r = E/L was 13-80x off outside the Hertz scene and
-//! no `E h^p` rule fitted both geometries (the compliance of the body
-//! matters, not only its material).
+//! `r = 1 / sqrt(sigma_min sigma_max)`. That is the rule: it depends on the
+//! compliance of the body, not only on its material. Measured against a
+//! sweep of r/E (`bench/run --steps 7`, bench/README.md, "Iterations against
+//! r/E", 2026-11-23): the automatic r gives the sweep's best iteration count
+//! on hertz_1692 (27 against 27) and one fewer on block3d_739 (17 against
+//! 18 at the best grid point).
 //!
 //! The extreme sigma come from about 20 Lanczos steps on
 //! `S_{r0} = W^{1/2} B K_{r0}^{-1} B^T W^{1/2}` with the first factorization

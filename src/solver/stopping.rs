@@ -17,9 +17,12 @@
 //!   estimates `||(I - J)^{-1}||`: from Anderson's secant pairs
 //!   (`sigma_max(dX dF^+)`, the largest of the last 10), or `1/(1 - q)` for
 //!   the plain iteration, q the largest of the last 10 ratios
-//!   `P_j / P_{j-1}`. In an independent prototype this held on 239 of 240
-//!   histories, at a median 1.17x the evaluations of an oracle that knows
-//!   the answer. The product `P_k K_k` is reported as the error estimate.
+//!   `P_j / P_{j-1}`. The product `P_k K_k` is reported as the error
+//!   estimate. Measured on the ten scenes of `tests/scenes/` against
+//!   references converged to 1e-12 (`bench/accuracy`, bench/README.md,
+//!   "The defaults", 2026-11-23): the estimate was 0.8 to 5.4 times the
+//!   measured error, and every error at most 0.32 tol; `tests/accuracy.rs`
+//!   checks those scenes.
 
 use std::collections::VecDeque;
 
