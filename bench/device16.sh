@@ -2,7 +2,7 @@
 # Strong scaling on a lent 16-core machine in one prepared call (issue "Scaling studies"):
 # the 2D (-mesh_h 0.01) and 3D (-mesh_h 0.0333) direct scenes at 1..16 ranks, the 1M-node
 # GAMG block at 16, and variants. Needs the relocatable bundle (../shared/tools/bundle) in
-# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh
+# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh [full|partition]
 # Writes $OUT/dev.log (summary lines) and $OUT/runs.txt (every run's whole output).
 set -u
 OUT=${OUT:-/tmp/out}; mkdir -p "$OUT"
@@ -32,6 +32,8 @@ one() {  # one RANKS TAG options...
 H2="-options_file options/hertz -mesh_generate hertz2d -mesh_h 0.01"
 H3="-options_file options/block3d -mesh_generate block3d -mesh_h 0.0333"
 G3="-options_file options/block3d -mesh_generate block3d -mesh_h 0.0125 -ksp_type cg -pc_type gamg"
+case "${1:-full}" in
+full)
 echo "== 2D direct"; for n in 1 2 4 8; do one $n d2 $H2; done; one 16 d2 $H2 -log_view
 echo "== 3D direct"; for n in 1 2 4 8; do one $n d3 $H3; done; one 16 d3 $H3 -log_view
 echo "== 1M GAMG"; one 16 g3 $G3 -log_view
@@ -40,4 +42,11 @@ one 16 d3dist $H3 -ubr_schur_distributed 1 -log_view
 one 16 d2metis0 $H2 -mat_mumps_icntl_7 1
 one 8 g3 $G3
 one 8 d3dist $H3 -ubr_schur_distributed 1
+;;
+partition)  # RCB (the default since 2026-11-26) against METIS k-way
+echo "== 2D direct"; for n in 1 2 4 8; do one $n d2 $H2; done; one 16 d2 $H2 -log_view; one 16 d2metis $H2 -partition metis
+echo "== 3D direct"; for n in 1 2 4 8; do one $n d3 $H3; done; one 16 d3 $H3 -log_view; one 16 d3metis $H3 -partition metis
+echo "== 1M GAMG"; one 16 g3 $G3 -log_view; one 16 g3metis $G3 -partition metis
+;;
+esac
 echo "== done after $(( $(date +%s) - T0 )) s"

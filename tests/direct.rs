@@ -345,7 +345,10 @@ fn distributed_schur_equals_centralized() {
                 run.stdout
             );
             let e = max_pressure_gap(&dist, &central);
-            assert!(e <= 1e-10, "{tag}: pressures differ by {e:.2e}");
+            assert!(
+                e <= 1e-10,
+                "scene {k}, -n {ranks}: pressures differ by {e:.2e}"
+            );
             let peak = central
                 .iter()
                 .map(|r| r.lambda_t.iter().map(|x| x * x).sum::<f64>().sqrt())
@@ -433,10 +436,7 @@ fn rank_counts_agree_with_the_parallel_ordering() {
                 );
             }
             let e = max_pressure_gap(&other, &one);
-            assert!(
-                e <= 1e-8,
-                "scene {k}, -n {ranks}: pressures differ by {e:.2e}"
-            );
+            assert!(e <= 1e-8, "{tag}: pressures differ by {e:.2e}");
             for (a, b) in other.iter().zip(&one) {
                 for c in 0..3 {
                     assert!(
