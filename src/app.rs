@@ -341,9 +341,9 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                     format!("partitioning {} nodes over {size} ranks", mesh.num_nodes())
                 });
                 let graph = distribute::NodeGraph::new(mesh);
-                let part = match partitioner.resolve(size) {
+                let part = match partitioner {
                     Partitioner::Rcb => distribute::partition_rcb(&mesh.coords, mesh.dim, size),
-                    _ => distribute::partition_nodes(&graph, size)?,
+                    Partitioner::Metis => distribute::partition_nodes(&graph, size)?,
                 };
                 let order = distribute::locality_order(&graph, &part, size);
                 drop(graph);

@@ -233,7 +233,7 @@ opt!(MESH: Given = "-mesh" "FILE", Given("none"), "Gmsh mesh (.msh 2.2 or 4.1, A
 opt!(MESH_GENERATE: Choice = "-mesh_generate" "NAME", Choice { default: "none", values: &["hertz2d", "block3d"] }, "built-in mesh, wins over -mesh: hertz2d (quarter cylinder, section 7.1) or block3d (the block of section 7.2)");
 opt!(MESH_H: f64 = "-mesh_h" "H", 0.5, "element size of -mesh_generate");
 opt!(MESH_ELEMENT: Given = "-mesh_element" "tri|quad|tet|hex", Given("tri (hertz2d), tet (block3d)"), "cells of -mesh_generate: P1 triangles or Q1 quadrilaterals (hertz2d), P1 tetrahedra or Q1 hexahedra (block3d)");
-opt!(PARTITION: Choice = "-partition" "auto|metis|rcb", Choice { default: "auto", values: &["auto", "metis", "rcb"] }, "how rank 0 splits the mesh over the ranks: metis (METIS k-way on the nodal graph: the smallest interfaces), rcb (recursive coordinate bisection: planes across the longest extent, n/P nodes per rank, parts along the tree of the parallel ordering; no graph), auto: rcb on several ranks");
+opt!(PARTITION: Choice = "-partition" "auto|metis|rcb", Choice { default: "auto", values: &["auto", "metis", "rcb"] }, "how rank 0 splits the mesh over the ranks: metis (METIS k-way on the nodal graph: the smallest interfaces), rcb (recursive coordinate bisection: planes across the longest extent, n/P nodes per rank, parts along the tree of the parallel ordering; no graph), auto: rcb on several ranks with the direct solver MUMPS called directly (its parallel ordering follows the bisection tree), metis otherwise (GAMG converges slower on RCB's slabs)");
 // Material
 opt!(YOUNG: Given = "-E" "VALUE", Given("required"), "Young's modulus");
 opt!(NU: Given = "-nu" "VALUE", Given("required"), "Poisson's ratio, in (-1, 0.5)");

@@ -107,7 +107,7 @@ fn header(m: &Results) {
         println!(
             "                  split over {} ranks by {}",
             m.ranks,
-            s.partition.words(m.ranks)
+            s.partition.words()
         );
     }
     println!(
