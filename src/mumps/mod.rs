@@ -153,11 +153,6 @@ impl Mumps {
         msg
     }
 
-    /// INFOG(1) of the last call.
-    pub fn infog1(&self) -> i32 {
-        self.id.infog[0]
-    }
-
     /// Sets ICNTL(i) (1-based).
     pub fn set_icntl(&mut self, i: usize, v: i32) {
         self.id.icntl[i - 1] = v;

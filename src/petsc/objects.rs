@@ -651,67 +651,6 @@ impl Ksp {
         Ok(its as usize)
     }
 
-    /// Asks the direct factorization of this KSP (before [`Ksp::set_up`]) to
-    /// also compute the dense Schur complement on the unknowns `indices`
-    /// (global numbers; MUMPS, which PETSc 3.18 supports on one rank).
-    pub fn request_schur(&self, indices: &[sys::PetscInt]) -> Result<(), Error> {
-        let mut pc: sys::PC = std::ptr::null_mut();
-        let mut factor: sys::Mat = std::ptr::null_mut();
-        let mut is: sys::IS = std::ptr::null_mut();
-        unsafe {
-            check(sys::KSPGetPC(self.raw, &mut pc))?;
-            check(sys::PCFactorSetUpMatSolverType(pc))?;
-            check(sys::PCFactorGetMatrix(pc, &mut factor))?;
-            check(sys::ISCreateGeneral(
-                super::comm_self(),
-                indices.len() as sys::PetscInt,
-                indices.as_ptr(),
-                sys::PETSC_COPY_VALUES,
-                &mut is,
-            ))?;
-            let r = sys::MatFactorSetSchurIS(factor, is);
-            sys::ISDestroy(&mut is);
-            check(r)
-        }
-    }
-
-    /// After [`Ksp::set_up`] with [`Ksp::request_schur`], before
-    /// [`Ksp::schur`] or any solve (which factorize it in place): a copy of
-    /// the Schur complement, `size x size`, column-major. MUMPS returns only
-    /// the lower triangle of a symmetric matrix (ICNTL(19) = 2); the copy
-    /// is made whole from it.
-    pub fn schur_copy(&self, size: usize) -> Result<Vec<f64>, Error> {
-        let mut pc: sys::PC = std::ptr::null_mut();
-        let mut factor: sys::Mat = std::ptr::null_mut();
-        let mut s: sys::Mat = std::ptr::null_mut();
-        let mut status: sys::MatFactorSchurStatus = 0;
-        unsafe {
-            check(sys::KSPGetPC(self.raw, &mut pc))?;
-            check(sys::PCFactorGetMatrix(pc, &mut factor))?;
-            check(sys::MatFactorCreateSchurComplement(
-                factor,
-                &mut s,
-                &mut status,
-            ))?;
-            let copy = Matrix { raw: s };
-            let mut a: *const f64 = std::ptr::null();
-            let mut lda: sys::PetscInt = 0;
-            check(sys::MatDenseGetLDA(copy.raw, &mut lda))?;
-            check(sys::MatDenseGetArrayRead(copy.raw, &mut a))?;
-            let lda = lda as usize;
-            let mut out = vec![0.0; size * size];
-            for j in 0..size {
-                for i in j..size {
-                    let v = *a.add(j * lda + i);
-                    out[j * size + i] = v;
-                    out[i * size + j] = v;
-                }
-            }
-            check(sys::MatDenseRestoreArrayRead(copy.raw, &mut a))?;
-            Ok(out)
-        }
-    }
-
     /// Keep the preconditioner when the operator's values change (the
     /// algebraic multigrid of `K + r B^T W B` serves another r as well).
     pub fn set_reuse_preconditioner(&self, yes: bool) -> Result<(), Error> {
@@ -725,25 +664,6 @@ impl Ksp {
                 },
             ))
         }
-    }
-
-    /// After [`Ksp::set_up`] with [`Ksp::request_schur`]: factorizes the
-    /// Schur complement S (dense LAPACK) and returns its solver.
-    pub fn schur(&self, size: usize) -> Result<SchurSolver, Error> {
-        let mut pc: sys::PC = std::ptr::null_mut();
-        let mut factor: sys::Mat = std::ptr::null_mut();
-        unsafe {
-            check(sys::KSPGetPC(self.raw, &mut pc))?;
-            check(sys::PCFactorGetMatrix(pc, &mut factor))?;
-            check(sys::PetscObjectReference(factor as sys::PetscObject))?;
-        }
-        let solver = SchurSolver {
-            factor,
-            rhs: Vector::new_seq(size)?,
-            sol: Vector::new_seq(size)?,
-        };
-        unsafe { check(sys::MatFactorFactorizeSchurComplement(solver.factor))? };
-        Ok(solver)
     }
 
     /// Solves `A X = B` for all columns at once (`KSPMatSolve`; a direct
@@ -832,36 +752,6 @@ impl DenseColumns {
             check(sys::MatDenseRestoreArrayRead(self.raw, &mut a))?;
             Ok(r)
         }
-    }
-}
-
-/// Solves with the Schur complement S of a factorization on its unknowns.
-pub struct SchurSolver {
-    factor: sys::Mat,
-    rhs: Vector,
-    sol: Vector,
-}
-
-impl Drop for SchurSolver {
-    fn drop(&mut self) {
-        unsafe {
-            sys::MatDestroy(&mut self.factor);
-        }
-    }
-}
-
-impl SchurSolver {
-    /// `x = S^{-1} b` (b and x in the order of the Schur unknowns).
-    pub fn solve(&self, b: &[f64], x: &mut [f64]) -> Result<(), Error> {
-        self.rhs.write(|v| v.copy_from_slice(b))?;
-        unsafe {
-            check(sys::MatFactorSolveSchurComplement(
-                self.factor,
-                self.rhs.raw,
-                self.sol.raw,
-            ))?
-        };
-        self.sol.read(|v| x.copy_from_slice(v))
     }
 }
 

@@ -164,14 +164,6 @@ impl LinearSolver {
         self.y0.is_some()
     }
 
-    /// The direct back-end's factorization flops (0 for PETSc's KSP).
-    pub fn factorization_flops(&self) -> f64 {
-        match &self.engine {
-            Engine::Direct(d) => d.flops,
-            Engine::Ksp(_) => 0.0,
-        }
-    }
-
     /// Why the one factorization failed, when it did (the direct back-end
     /// keeps such a failure, the same on every rank: the problem is set up,
     /// every solve returns it, and the run reports it with its outputs).
