@@ -657,8 +657,8 @@ mod patch_tests {
 
     /// An `n x n` grid of the square [0,2]x[0,1.5], interior nodes moved by up
     /// to 0.3 cell, boundary nodes moved along their edge (corners fixed);
-    /// with `mixed`, every other cell is split into two triangles.
-    fn patch_2d(n: usize, mixed: bool) -> Patch {
+    /// the cells where `split(i, j)` are split into two triangles.
+    fn patch_2d(n: usize, split: impl Fn(usize, usize) -> bool) -> Patch {
         let (lx, ly) = (2.0, 1.5);
         let id = |i: usize, j: usize| j * (n + 1) + i;
         let mut x = Vec::new();
@@ -678,7 +678,7 @@ mod patch_tests {
         for j in 0..n {
             for i in 0..n {
                 let q = [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)];
-                if mixed && (i + j) % 2 == 1 {
+                if split(i, j) {
                     cells.push(vec![q[0], q[1], q[2]]);
                     cells.push(vec![q[0], q[2], q[3]]);
                 } else {
@@ -844,6 +844,60 @@ mod patch_tests {
         p
     }
 
+    /// The `n^3` grid of [`patch_3d`] with every hexahedron cut into the six
+    /// tetrahedra around its diagonal from (0,0,0) to (1,1,1) (Kuhn's
+    /// subdivision: the same in every cell, so the face diagonals match),
+    /// each oriented positively.
+    fn patch_3d_tetrahedra(n: usize) -> Patch {
+        let mut p = patch_3d(n);
+        let hexes = std::mem::take(&mut p.cells);
+        // Hexahedron corners by their offsets (a, b, c) in {0, 1}^3.
+        let corner = |h: &[usize], o: [usize; 3]| match o {
+            [0, 0, 0] => h[0],
+            [1, 0, 0] => h[1],
+            [1, 1, 0] => h[2],
+            [0, 1, 0] => h[3],
+            [0, 0, 1] => h[4],
+            [1, 0, 1] => h[5],
+            [1, 1, 1] => h[6],
+            _ => h[7],
+        };
+        let x = p.x.clone();
+        let signed = |t: &[usize]| {
+            let e = |a: usize, r: usize| x[t[a] * 3 + r] - x[t[0] * 3 + r];
+            let (u, v, w) = (
+                [0, 1, 2].map(|r| e(1, r)),
+                [0, 1, 2].map(|r| e(2, r)),
+                [0, 1, 2].map(|r| e(3, r)),
+            );
+            u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+                + u[2] * (v[0] * w[1] - v[1] * w[0])
+        };
+        for h in &hexes {
+            for perm in [
+                [0, 1, 2],
+                [0, 2, 1],
+                [1, 0, 2],
+                [1, 2, 0],
+                [2, 0, 1],
+                [2, 1, 0],
+            ] {
+                let mut o = [0usize; 3];
+                let mut t = vec![corner(h, o)];
+                for &axis in &perm {
+                    o[axis] = 1;
+                    t.push(corner(h, o));
+                }
+                if signed(&t) < 0.0 {
+                    t.swap(2, 3);
+                }
+                p.cells.push(t);
+            }
+        }
+        p.facets = boundary_facets(&p.cells);
+        p
+    }
+
     fn assemble(p: &Patch, young: f64, nu: f64) -> DMatrix<f64> {
         let d = p.dim;
         let n = p.x.len() / d;
@@ -868,11 +922,10 @@ mod patch_tests {
                         .unwrap();
                 }
                 (3, 4) => {
-                    let (m, _) = stiffness_3d(
-                        &[0, 1, 2, 3].map(|a| [pt(a, 0), pt(a, 1), pt(a, 2)]),
-                        &hooke_3d(young, nu),
-                    );
-                    ke.copy_from_slice(m.transpose().as_slice());
+                    // The closed form that the assembly uses (cell_stiffness).
+                    let xs = [0, 1, 2, 3].map(|a| [pt(a, 0), pt(a, 1), pt(a, 2)]);
+                    let vol = stiffness_p1_3d_into(&xs, lame, &mut ke);
+                    assert!(vol > 0.0, "a tetrahedron of volume {vol}");
                 }
                 (3, k) => {
                     let xs: Vec<[f64; 3]> =
@@ -1003,12 +1056,28 @@ mod patch_tests {
 
     #[test]
     fn q1_quadrilaterals_2d() {
-        check(&patch_2d(4, false), "quadrilaterals");
+        check(&patch_2d(4, |_, _| false), "quadrilaterals");
     }
 
     #[test]
     fn triangles_and_quadrilaterals_2d() {
-        check(&patch_2d(4, true), "triangles + quadrilaterals");
+        check(
+            &patch_2d(4, |i, j| (i + j) % 2 == 1),
+            "triangles + quadrilaterals",
+        );
+    }
+
+    #[test]
+    fn p1_triangles_2d() {
+        check(&patch_2d(4, |_, _| true), "triangles");
+    }
+
+    #[test]
+    fn p1_tetrahedra_3d() {
+        let p = patch_3d_tetrahedra(3);
+        assert!(p.cells.iter().all(|c| c.len() == 4) && p.cells.len() == 6 * 27);
+        assert!(p.facets.iter().all(|f| f.len() == 3));
+        check(&p, "tetrahedra");
     }
 
     #[test]
