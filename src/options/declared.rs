@@ -384,7 +384,7 @@ pub fn print_help() {
     println!(
         "Options files: one option per line, '#' comments, a value with spaces in double quotes."
     );
-    println!("Exit status: 0 converged, 2 bad input or an ill-posed scene (a rigid motion nothing holds), 3 not converged.");
+    println!("Exit status: 0 converged, 1 a PETSc, MPI or internal error, 2 bad input or an ill-posed scene (a rigid motion nothing holds), 3 not converged (the report still written), 4 out of memory, 70 a panic (docs/DESIGN.md).");
 }
 
 #[cfg(test)]
