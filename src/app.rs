@@ -321,7 +321,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     }
 
     /// Mesh and Partition stages: rank 0 reads or generates the mesh and
-    /// partitions it with METIS; each rank receives its part.
+    /// splits it (`-partition`: RCB or METIS); each rank receives its part.
     fn make_and_distribute_mesh(&mut self) -> Result<LocalMesh, Error> {
         let (stages, source) = (&self.stages, &self.settings.mesh);
         let partitioner = self.settings.partition;
