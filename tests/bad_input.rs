@@ -227,6 +227,19 @@ fn friction_options() {
 }
 
 #[test]
+fn unknown_partitioner() {
+    // Refused on every rank count, before any work.
+    for ranks in [1, 2] {
+        expect_bad_on(
+            ranks,
+            &format!("part{ranks}"),
+            &hertz(&["-partition", "scotch"]),
+            &["-partition", "scotch", "auto, metis, rcb"],
+        );
+    }
+}
+
+#[test]
 fn inverted_element() {
     // Swap two nodes of one triangle of a valid 2.2 mesh.
     let dir = scratch("inverted-src");
