@@ -2,7 +2,7 @@
 # Strong scaling on a lent 16-core machine in one prepared call (issue "Scaling studies"):
 # the 2D (-mesh_h 0.01) and 3D (-mesh_h 0.0333) direct scenes at 1..16 ranks, the 1M-node
 # GAMG block at 16, and variants. Needs the relocatable bundle (../shared/tools/bundle) in
-# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh [full|partition]
+# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh [full|partition|local]
 # Writes $OUT/dev.log (summary lines) and $OUT/runs.txt (every run's whole output).
 set -u
 OUT=${OUT:-/tmp/out}; mkdir -p "$OUT"
@@ -47,6 +47,11 @@ partition)  # RCB (the default since 2026-11-26) against METIS k-way
 echo "== 2D direct"; for n in 1 2 4 8; do one $n d2 $H2; done; one 16 d2 $H2 -log_view; one 16 d2metis $H2 -partition metis
 echo "== 3D direct"; for n in 1 2 4 8; do one $n d3 $H3; done; one 16 d3 $H3 -log_view; one 16 d3metis $H3 -partition metis
 echo "== 1M GAMG"; one 16 g3 $G3 -log_view; one 16 g3metis $G3 -partition metis
+;;
+local)  # each rank generating its part (RCB), and MUMPS' column-count symbolic factorization
+echo "== 2D direct"; one 1 d2 $H2; one 16 d2 $H2 -log_view; one 16 d2s58 $H2 -mat_mumps_icntl_58 2 -log_view; one 8 d2 $H2
+echo "== 3D direct"; one 1 d3 $H3; one 16 d3 $H3 -log_view; one 16 d3s58 $H3 -mat_mumps_icntl_58 2
+echo "== 1M GAMG"; one 16 g3rcb $G3 -partition rcb -log_view; one 16 g3 $G3 -log_view
 ;;
 esac
 echo "== done after $(( $(date +%s) - T0 )) s"

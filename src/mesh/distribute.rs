@@ -298,21 +298,7 @@ pub fn locality_order(graph: &NodeGraph, part: &[usize], nparts: usize) -> Vec<u
 /// `order` lists the nodes in their new global numbering, part by part
 /// (e.g. from [`locality_order`]).
 pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec<LocalMesh> {
-    let n = mesh.num_nodes();
-    let d = mesh.dim;
-    let mut counts = vec![0usize; nparts];
-    for &p in part {
-        counts[p] += 1;
-    }
-    let mut start = vec![0usize; nparts + 1];
-    for p in 0..nparts {
-        start[p + 1] = start[p] + counts[p];
-    }
-    let mut new_id = vec![0usize; n];
-    let old_of_new = order;
-    for (g, &old) in order.iter().enumerate() {
-        new_id[old] = g;
-    }
+    let numbering = Numbering::new(part, order, nparts);
     // Cells per part: each cell goes to every part owning one of its nodes.
     let mut cells_of: Vec<Vec<usize>> = vec![Vec::new(); nparts];
     let mut parts_here = Vec::with_capacity(8);
@@ -328,13 +314,93 @@ pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec
         }
     }
     let kinds = mesh.cell_kinds_label();
-    let mut locals = Vec::with_capacity(nparts);
-    for p in 0..nparts {
-        let owned_start = start[p];
-        let owned_count = counts[p];
+    (0..nparts)
+        .map(|p| numbering.local_mesh(mesh, part, &cells_of[p], p, &kinds))
+        .collect()
+}
+
+/// The local mesh of part `p` alone, for a mesh that every rank holds whole
+/// (a generated one: every rank generates it, which costs less than one
+/// rank generating, splitting and sending every part): the nodes
+/// partitioned by [`partition_rcb`] (the same on every rank: the same
+/// coordinates, the same cuts) and numbered part by part in the mesh's own
+/// order (the generators number neighbours close together already). Only
+/// part `p`'s cells are visited; nothing is sent.
+pub fn own_part_rcb(mesh: &Mesh, nparts: usize, p: usize) -> LocalMesh {
+    let part = partition_rcb(&mesh.coords, mesh.dim, nparts);
+    // A stable counting sort of the nodes by part.
+    let mut start = vec![0usize; nparts + 1];
+    for &q in &part {
+        start[q + 1] += 1;
+    }
+    for q in 0..nparts {
+        start[q + 1] += start[q];
+    }
+    let mut next = start.clone();
+    let mut order = vec![0usize; part.len()];
+    for (v, &q) in part.iter().enumerate() {
+        order[next[q]] = v;
+        next[q] += 1;
+    }
+    let numbering = Numbering::new(&part, &order, nparts);
+    let cells: Vec<usize> = mesh
+        .cells
+        .iter()
+        .enumerate()
+        .filter(|(_, cell)| cell.iter().any(|&v| part[v] == p))
+        .map(|(c, _)| c)
+        .collect();
+    numbering.local_mesh(mesh, &part, &cells, p, &mesh.cell_kinds_label())
+}
+
+/// The new global numbering of a partitioned mesh: each part owns a
+/// contiguous block, part 0 first.
+struct Numbering<'a> {
+    /// First new number of each part (and the total at the end).
+    start: Vec<usize>,
+    /// New number of each old node.
+    new_id: Vec<usize>,
+    /// Old node of each new number.
+    old_of_new: &'a [usize],
+}
+
+impl<'a> Numbering<'a> {
+    fn new(part: &[usize], order: &'a [usize], nparts: usize) -> Numbering<'a> {
+        let mut start = vec![0usize; nparts + 1];
+        for &p in part {
+            start[p + 1] += 1;
+        }
+        for p in 0..nparts {
+            start[p + 1] += start[p];
+        }
+        let mut new_id = vec![0usize; part.len()];
+        for (g, &old) in order.iter().enumerate() {
+            new_id[old] = g;
+        }
+        Numbering {
+            start,
+            new_id,
+            old_of_new: order,
+        }
+    }
+
+    /// Part `p`'s local mesh from the cells `cells_p` (those touching one
+    /// of its nodes, in increasing order).
+    fn local_mesh(
+        &self,
+        mesh: &Mesh,
+        part: &[usize],
+        cells_p: &[usize],
+        p: usize,
+        kinds: &str,
+    ) -> LocalMesh {
+        let d = mesh.dim;
+        let new_id = &self.new_id;
+        let owned_start = self.start[p];
+        let owned_count = self.start[p + 1] - owned_start;
         let mut node_global: Vec<usize> = (owned_start..owned_start + owned_count).collect();
         let mut ghost_ids: Vec<usize> = Vec::new();
-        for &c in &cells_of[p] {
+        for &c in cells_p {
             for &v in mesh.cells.get(c) {
                 if part[v] != p {
                     ghost_ids.push(new_id[v]);
@@ -359,13 +425,13 @@ pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec
         let mut coords = Vec::with_capacity(node_global.len() * d);
         let mut node_tag = Vec::with_capacity(node_global.len());
         for &g in &node_global {
-            let old = old_of_new[g];
+            let old = self.old_of_new[g];
             coords.extend_from_slice(&mesh.coords[old * d..(old + 1) * d]);
             node_tag.push(mesh.node_tags[old]);
         }
         let mut cells = Cells::new();
         let mut cell = Vec::with_capacity(8);
-        for &c in &cells_of[p] {
+        for &c in cells_p {
             cell.clear();
             cell.extend(
                 mesh.cells
@@ -391,11 +457,11 @@ pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec
                 conn,
             });
         }
-        locals.push(LocalMesh {
+        LocalMesh {
             dim: d,
-            global_nodes: n,
+            global_nodes: mesh.num_nodes(),
             global_cells: mesh.num_cells(),
-            cell_kinds: kinds.clone(),
+            cell_kinds: kinds.to_string(),
             owned_start,
             owned_count,
             node_global,
@@ -403,9 +469,8 @@ pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec
             coords,
             cells,
             groups,
-        });
+        }
     }
-    locals
 }
 
 // --- wire format: little-endian u64 / f64, strings as length + bytes -------
