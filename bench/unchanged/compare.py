@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """Compare two directories written by bench/unchanged/run.sh: every CSV
 byte-identical, or equal to 1e-12 relative to its column's largest value.
-Runs on more than one rank are held to 1e-4 instead: two runs of the same
-binary on 2 ranks differ by up to 7e-5 there (measured 2026-11-26 on
-cantilever2d_stop, stamp2d_gravity_coulomb), because MUMPS' parallel
-factorization is not reproducible bit for bit and the stopping test may
-then end one iteration apart."""
+Runs on more than one rank are held to 1e-3, the stopping test's target
+(-ubr_lambda_rtol), instead: two runs of the same binary on 2 ranks
+differed by up to 1.9e-4 (cantilever2d_stop: 159 and 160 iterations,
+2026-11-26), because MUMPS' parallel factorization is not reproducible bit
+for bit and the stopping test may then end one iteration apart."""
 import csv, pathlib, sys
 
 def load(p):
@@ -34,7 +34,7 @@ def main(a, b, tol=1e-12):
                 continue
             scale = max([abs(x) for x in xa] + [1e-300])
             worst = max([worst] + [abs(x - y) / scale for x, y in zip(xa, xb)])
-        limit = tol if ".n1." in fa.name else 1e-4
+        limit = tol if ".n1." in fa.name else 1e-3
         if worst <= limit:
             close += 1; print(f"{fa.name}: within {worst:.1e}")
         else:
@@ -42,7 +42,7 @@ def main(a, b, tol=1e-12):
     for fb in sorted(b.glob("*.csv")):
         if not (a / fb.name).exists():
             print(f"{fb.name}: missing in {a}"); bad += 1
-    print(f"{same} identical, {close} within tolerance (1e-12 on one rank, 1e-4 on more), {bad} different")
+    print(f"{same} identical, {close} within tolerance (1e-12 on one rank, 1e-3 on more), {bad} different")
     return 1 if bad else 0
 
 if __name__ == "__main__":

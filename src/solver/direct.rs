@@ -228,6 +228,19 @@ fn host_order(
 /// (block3d_17887: 5.4e10 flops against 1.4e11 with AMD).
 pub const METIS_PAYS_2D: f64 = 2.5e5;
 
+/// With an ordering of ours (PERM_IN), MUMPS' symbolic factorization by
+/// column counts (ICNTL(58) = 2) unless `-mat_mumps_icntl_58` chooses: the
+/// analysis, sequential on the host, took 0.89 s instead of 1.26 s on 16
+/// ranks for the 582k-node 2D scene (2.8% more flops, the same numerical
+/// factorization time), and the 3D scene's flops were unchanged
+/// (bench/results/device16/2026-11-26-c-local.log).
+fn column_counts(mumps: &mut Mumps) -> Result<(), Error> {
+    if options::get_string("-mat_mumps_icntl_58")?.is_none() {
+        mumps.set_icntl(58, 2);
+    }
+    Ok(())
+}
+
 /// Analyses with the ordering the options ask for (`-mat_mumps_icntl_7 K`:
 /// 1 is METIS, others MUMPS' own K), else the one predicted faster: METIS
 /// in 3D; in 2D, MUMPS' AMD unless its predicted flops per node exceed
@@ -248,6 +261,7 @@ fn choose_ordering<C: Communicator>(
             metis_order(world, mesh, adjacency, schur_nodes, comps)?
         };
         mumps.set_ordering(perm_in);
+        column_counts(mumps)?;
         let _e = ev_analysis.begin();
         mumps.analyse()
     };
@@ -278,6 +292,7 @@ fn choose_ordering<C: Communicator>(
             super::ordering::parallel_nd(world, mesh, adjacency, schur_nodes, comps)?
         };
         mumps.set_ordering(perm_in);
+        column_counts(mumps)?;
         let _e = ev_analysis.begin();
         mumps.analyse()?;
         return Ok(format!(
