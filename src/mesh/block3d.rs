@@ -33,14 +33,14 @@ const MAX_NODES: f64 = 60.0e6;
 
 /// The box: lower corner and edge lengths along x, y, z.
 const LOWER: [f64; 3] = [-0.5, -1.0, -0.5];
-const LENGTH: [f64; 3] = [1.0, 2.0, 1.0];
+pub(super) const LENGTH: [f64; 3] = [1.0, 2.0, 1.0];
 
 /// The Kuhn subdivision of the unit cube, corners numbered `a + 2 b + 4 c`
 /// for the corner `(a, b, c)`: for each permutation of the axes, the path
 /// from corner 0 to corner 7 along those axes. The four vertices of the odd
 /// permutations are listed with the last two swapped, so that all six are
 /// positively oriented.
-const KUHN: [[usize; 4]; 6] = [
+pub(super) const KUHN: [[usize; 4]; 6] = [
     [0, 1, 3, 7], // x, y, z (even)
     [0, 1, 7, 5], // x, z, y (odd)
     [0, 2, 7, 3], // y, x, z (odd)
@@ -48,6 +48,9 @@ const KUHN: [[usize; 4]; 6] = [
     [0, 4, 5, 7], // z, x, y (even)
     [0, 4, 7, 6], // z, y, x (odd)
 ];
+
+/// Box corner `a + 2 b + 4 c` in Gmsh's hexahedron order.
+pub(super) const HEX: [usize; 8] = [0, 1, 3, 2, 4, 5, 7, 6];
 
 /// Number of intervals along an edge of length `length` for element size `h`.
 fn intervals(length: f64, h: f64) -> f64 {
@@ -66,34 +69,41 @@ struct Grid {
     coords: Vec<f64>,
 }
 
+/// The intervals along x, y, z at element size `h`, or the error that
+/// names `-mesh_h` (not positive and finite, or too many nodes: checked in
+/// floating point before any allocation, a tiny `h` gives infinity).
+pub(super) fn dims(h: f64) -> Result<[usize; 3], MeshError> {
+    if !h.is_finite() || h <= 0.0 {
+        return Err(MeshError(format!(
+            "option -mesh_h: {h} is not a positive finite element size (-mesh_generate block3d)"
+        )));
+    }
+    let nf = LENGTH.map(|l| intervals(l, h));
+    let estimate = (nf[0] + 1.0) * (nf[1] + 1.0) * (nf[2] + 1.0);
+    if estimate > MAX_NODES {
+        return Err(MeshError(format!(
+            "option -mesh_h: {h} is too small for -mesh_generate block3d \
+             ({:.0} x {:.0} x {:.0} boxes, about {estimate:.2e} nodes, the limit is {MAX_NODES:.0e})",
+            nf[0], nf[1], nf[2]
+        )));
+    }
+    Ok(nf.map(|n| n as usize))
+}
+
+/// Coordinate `axis` of grid line `i` of `n` intervals (exact on the upper faces).
+pub(super) fn coordinate(axis: usize, i: usize, n: usize) -> f64 {
+    if i == n {
+        LOWER[axis] + LENGTH[axis]
+    } else {
+        LOWER[axis] + LENGTH[axis] * (i as f64 / n as f64)
+    }
+}
+
 impl Grid {
     fn new(h: f64) -> Result<Grid, MeshError> {
-        if !h.is_finite() || h <= 0.0 {
-            return Err(MeshError(format!(
-                "option -mesh_h: {h} is not a positive finite element size (-mesh_generate block3d)"
-            )));
-        }
-        // Node count, checked in floating point before any allocation (a tiny
-        // `h` gives infinity).
-        let nf = LENGTH.map(|l| intervals(l, h));
-        let estimate = (nf[0] + 1.0) * (nf[1] + 1.0) * (nf[2] + 1.0);
-        if estimate > MAX_NODES {
-            return Err(MeshError(format!(
-                "option -mesh_h: {h} is too small for -mesh_generate block3d \
-                 ({:.0} x {:.0} x {:.0} boxes, about {estimate:.2e} nodes, the limit is {MAX_NODES:.0e})",
-                nf[0], nf[1], nf[2]
-            )));
-        }
-        let [nx, ny, nz] = nf.map(|n| n as usize);
+        let [nx, ny, nz] = dims(h)?;
         let n_nodes = (nx + 1) * (ny + 1) * (nz + 1);
         let mut coords = Vec::with_capacity(3 * n_nodes);
-        let coordinate = |axis: usize, i: usize, n: usize| {
-            if i == n {
-                LOWER[axis] + LENGTH[axis] // exact on the upper faces
-            } else {
-                LOWER[axis] + LENGTH[axis] * (i as f64 / n as f64)
-            }
-        };
         for k in 0..=nz {
             let z = coordinate(2, k, nz);
             for j in 0..=ny {
@@ -215,8 +225,6 @@ pub fn generate_hex(h: f64) -> Result<Mesh, MeshError> {
     let grid = Grid::new(h)?;
     let [nx, ny, nz] = grid.dims;
     let n_nodes = grid.n_nodes();
-    // Box corner c = a + 2 b + 4 c in Gmsh's hexahedron order.
-    const HEX: [usize; 8] = [0, 1, 3, 2, 4, 5, 7, 6];
     let corner: [usize; 8] = std::array::from_fn(|c| grid.node(c & 1, (c >> 1) & 1, c >> 2));
     let mut cells = Vec::with_capacity(8 * nx * ny * nz);
     for k in 0..nz {

@@ -17,6 +17,7 @@
 //! 4, 5, 6 or 8 in 3D.
 
 pub mod block3d;
+pub mod block3d_parts;
 pub mod distribute;
 pub mod gmsh;
 pub mod hertz2d;
