@@ -2,7 +2,7 @@
 # Strong scaling on a lent 16-core machine in one prepared call (issue "Scaling studies"):
 # the 2D (-mesh_h 0.01) and 3D (-mesh_h 0.0333) direct scenes at 1..16 ranks, the 1M-node
 # GAMG block at 16, and variants. Needs the relocatable bundle (../shared/tools/bundle) in
-# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh [full|partition|local]
+# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh [full|partition|local|final]
 # Writes $OUT/dev.log (summary lines) and $OUT/runs.txt (every run's whole output).
 set -u
 OUT=${OUT:-/tmp/out}; mkdir -p "$OUT"
@@ -52,6 +52,12 @@ local)  # each rank generating its part (RCB), and MUMPS' column-count symbolic 
 echo "== 2D direct"; one 1 d2 $H2; one 16 d2 $H2 -log_view; one 16 d2s58 $H2 -mat_mumps_icntl_58 2 -log_view; one 8 d2 $H2
 echo "== 3D direct"; one 1 d3 $H3; one 16 d3 $H3 -log_view; one 16 d3s58 $H3 -mat_mumps_icntl_58 2
 echo "== 1M GAMG"; one 16 g3rcb $G3 -partition rcb -log_view; one 16 g3 $G3 -log_view
+;;
+final)  # the table of the README after the per-rank generated meshes and ICNTL(58) = 2
+echo "== 2D direct"; for n in 1 2 4 8; do one $n d2 $H2; done; one 16 d2 $H2 -log_view
+echo "== 3D direct"; for n in 1 2 4 8; do one $n d3 $H3; done; one 16 d3 $H3 -log_view
+echo "== 1M GAMG"; one 16 g3rcb $G3 -partition rcb -log_view; one 16 g3 $G3 -log_view
+echo "== variants"; one 16 d3full $H3 -ubr_condense_max 0 -log_view; one 16 d2 $H2
 ;;
 esac
 echo "== done after $(( $(date +%s) - T0 )) s"
