@@ -132,6 +132,33 @@ fn plot_center(given: Option<&[f64]>, rows: &[ContactRow], d: usize) -> Vec<f64>
         .collect()
 }
 
+/// The Hertz pressure of `-reference hertz` at 401 points across the zoom
+/// (else across the candidates at `x`, sorted); empty without a reference.
+fn hertz_curve(
+    s: &Settings,
+    d: usize,
+    x: &[f64],
+    zoom: Option<&std::ops::Range<f64>>,
+) -> (Vec<f64>, Vec<f64>) {
+    let Some(r) = &s.reference else {
+        return (Vec::new(), Vec::new());
+    };
+    let (lo, hi) = match zoom {
+        Some(z) => (z.start, z.end),
+        None => (
+            x.first().copied().unwrap_or(0.0),
+            x.last().copied().unwrap_or(0.0),
+        ),
+    };
+    (0..=400)
+        .map(|k| {
+            let xi = lo + (hi - lo) * k as f64 / 400.0;
+            let p = hertz::pressure(d, r.force, r.radius, s.e_star(d), xi.abs()).0;
+            (xi, p)
+        })
+        .unzip()
+}
+
 /// `-plot_contact`: pressure, and with friction |lambda_t| and the bound s,
 /// along the surface (2D: a signed coordinate from the contact centre, so
 /// that both sides of an asymmetric contact show; 3D: the distance from
@@ -205,25 +232,7 @@ fn plot_contact(path: &str, m: &Results) -> Result<(), Error> {
             }
         });
     }
-    let (hx, hy): (Vec<f64>, Vec<f64>) = match &s.reference {
-        Some(r) => {
-            let (lo, hi) = match &zoom {
-                Some(z) => (z.start, z.end),
-                None => (
-                    x.first().copied().unwrap_or(0.0),
-                    x.last().copied().unwrap_or(0.0),
-                ),
-            };
-            (0..=400)
-                .map(|k| {
-                    let xi = lo + (hi - lo) * k as f64 / 400.0;
-                    let p = hertz::pressure(d, r.force, r.radius, s.e_star(d), xi.abs()).0;
-                    (xi, p)
-                })
-                .unzip()
-        }
-        None => (Vec::new(), Vec::new()),
-    };
+    let (hx, hy) = hertz_curve(s, d, &x, zoom.as_ref());
     if s.reference.is_some() {
         series.push(Series {
             label: "Hertz pressure",

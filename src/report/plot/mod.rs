@@ -28,8 +28,14 @@
 //! Empty series, or no drawable point at all, give a plot with empty axes
 //! (marked "no data"), never a panic.
 
+mod axes;
+
 use super::write_atomic;
 use ab_glyph::{Font as _, FontRef, PxScale, ScaleFont as _};
+use axes::{
+    axis_range, bounds, clean, clip_x, log_tick_label, y_axis_range, Clean, TickFormat, MAX_DECADES,
+};
+pub use axes::{break_lines, contact_zoom, linear_axis};
 use plotters::coord::combinators::LogCoord;
 use plotters::coord::ranged1d::BoldPoints;
 use plotters::coord::types::RangedCoordf64;
@@ -225,306 +231,6 @@ pub fn history_curves(
     out
 }
 
-/// A series after dropping the points that cannot be drawn: runs of
-/// consecutive drawable points.
-#[derive(Clone, Debug)]
-struct Clean {
-    runs: Vec<Vec<(f64, f64)>>,
-}
-
-/// `c` cut to `x` in `range`: points outside dropped; with `line`, each
-/// segment cut at the border (a run that leaves the range ends there).
-fn clip_x(c: Clean, range: &Range<f64>, line: bool) -> Clean {
-    let (lo, hi) = (range.start, range.end);
-    let inside = |x: f64| x >= lo && x <= hi;
-    let mut runs = Vec::new();
-    for run in c.runs {
-        let mut cur: Vec<(f64, f64)> = Vec::new();
-        if !line || run.len() == 1 {
-            for &(x, y) in &run {
-                if inside(x) {
-                    cur.push((x, y));
-                }
-            }
-            if !cur.is_empty() {
-                runs.push(cur);
-            }
-            continue;
-        }
-        for w in run.windows(2) {
-            let ((x0, y0), (x1, y1)) = (w[0], w[1]);
-            // The parameters t in [0, 1] of the segment within the range.
-            let (mut t0, mut t1) = (0.0f64, 1.0f64);
-            let dx = x1 - x0;
-            if dx == 0.0 {
-                if !inside(x0) {
-                    t0 = 1.0;
-                    t1 = 0.0;
-                }
-            } else {
-                let (ta, tb) = ((lo - x0) / dx, (hi - x0) / dx);
-                t0 = t0.max(ta.min(tb));
-                t1 = t1.min(ta.max(tb));
-            }
-            if t0 > t1 {
-                if !cur.is_empty() {
-                    runs.push(std::mem::take(&mut cur));
-                }
-                continue;
-            }
-            let at = |t: f64| {
-                if t == 0.0 {
-                    (x0, y0)
-                } else if t == 1.0 {
-                    (x1, y1)
-                } else {
-                    (x0 + t * dx, y0 + t * (y1 - y0))
-                }
-            };
-            if cur.is_empty() {
-                cur.push(at(t0));
-            }
-            cur.push(at(t1));
-            if t1 < 1.0 {
-                runs.push(std::mem::take(&mut cur));
-            }
-        }
-        if !cur.is_empty() {
-            runs.push(cur);
-        }
-    }
-    Clean { runs }
-}
-
-/// Largest magnitude drawn: beyond it axis widths would overflow.
-const MAX_ABS: f64 = 1e300;
-/// Most decades a log axis spans (plotters' log ticks need a finite ratio).
-const MAX_DECADES: f64 = 250.0;
-
-/// Drops the points that cannot be drawn: non-finite or beyond [`MAX_ABS`];
-/// with `log_y`, y values not above `floor` (at least 0).
-fn clean(s: &Series, log_y: bool, floor: f64) -> Clean {
-    let mut runs = Vec::new();
-    let mut run = Vec::new();
-    let ok = |v: f64| v.is_finite() && v.abs() <= MAX_ABS;
-    for (&x, &y) in s.x.iter().zip(s.y) {
-        if ok(x) && ok(y) && (!log_y || y > floor.max(0.0)) {
-            run.push((x, y));
-        } else if !run.is_empty() {
-            runs.push(std::mem::take(&mut run));
-        }
-    }
-    if !run.is_empty() {
-        runs.push(run);
-    }
-    Clean { runs }
-}
-
-/// An axis range around `[lo, hi]` (data bounds, or None without data),
-/// padded by `pad_lo`/`pad_hi` of its width (of its decades when `log`).
-fn axis_range(bounds: Option<(f64, f64)>, log: bool, pad_lo: f64, pad_hi: f64) -> Range<f64> {
-    if log {
-        let (lo, hi) = match bounds {
-            Some((lo, hi)) => (lo.log10(), hi.log10()),
-            None => (-1.0, 1.0),
-        };
-        let (lo, hi) = if hi - lo < 1e-9 {
-            (lo - 1.0, hi + 1.0)
-        } else {
-            (lo, hi)
-        };
-        let w = hi - lo;
-        let r = 10f64.powf(lo - pad_lo * w)..10f64.powf(hi + pad_hi * w);
-        if r.start > 0.0 && r.end.is_finite() && r.start < r.end {
-            r
-        } else {
-            10f64.powf(lo)..10f64.powf(hi)
-        }
-    } else {
-        let (lo, hi) = bounds.unwrap_or((0.0, 1.0));
-        // Constant to 1e-9 (round-off of a computed constant): 10% around it.
-        let (lo, hi) = if hi - lo <= 1e-9 * lo.abs().max(hi.abs()) || hi - lo < f64::MIN_POSITIVE {
-            let d = if lo.abs() > 0.0 { 0.1 * lo.abs() } else { 1.0 };
-            (lo - d, hi + d)
-        } else {
-            (lo, hi)
-        };
-        // Halves, so that hi - lo cannot overflow.
-        let w = hi / 2.0 - lo / 2.0;
-        let r = (lo - 2.0 * pad_lo * w)..(hi + 2.0 * pad_hi * w);
-        if r.start.is_finite() && r.end.is_finite() && r.start < r.end {
-            r
-        } else {
-            lo..hi
-        }
-    }
-}
-
-fn bounds<'a>(values: impl Iterator<Item = &'a f64>) -> Option<(f64, f64)> {
-    values.fold(None, |acc, &v| match acc {
-        None => Some((v, v)),
-        Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
-    })
-}
-
-/// How the ticks of a linear axis are labelled: all plain (0.25, 150) or,
-/// for an axis whose largest tick is at least 1e5 or below 1e-3, all
-/// scientific (2.5e-4), with enough digits to tell neighbours apart.
-#[derive(Clone, Copy, Debug)]
-struct TickFormat {
-    step: f64,
-    scientific: bool,
-}
-
-impl TickFormat {
-    fn new(ticks: &[f64]) -> TickFormat {
-        let step = ticks
-            .windows(2)
-            .map(|w| (w[1] - w[0]).abs())
-            .filter(|d| *d > 0.0)
-            .fold(f64::INFINITY, f64::min);
-        let step = if step.is_finite() { step } else { 0.0 };
-        let biggest = ticks.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        TickFormat {
-            step,
-            scientific: biggest >= 1e5 || (biggest > 0.0 && biggest < 1e-3),
-        }
-    }
-
-    fn label(&self, v: f64) -> String {
-        // A tick at zero computed as -1e-17 is 0, not "-0".
-        if v == 0.0 || !v.is_finite() || v.abs() < 1e-9 * self.step {
-            return "0".into();
-        }
-        let digits = |x: f64| x.abs().log10().floor();
-        if self.scientific {
-            let decimals = if self.step > 0.0 {
-                (digits(v) - digits(self.step)).clamp(0.0, 12.0) as usize
-            } else {
-                2
-            };
-            let s = format!("{v:.decimals$e}");
-            // 1.50e3 -> 1.5e3, 2.00e-4 -> 2e-4
-            return match s.split_once('e') {
-                Some((m, e)) if m.contains('.') => {
-                    format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
-                }
-                _ => s,
-            };
-        }
-        let decimals = if self.step > 0.0 {
-            (-digits(self.step)).clamp(0.0, 12.0) as usize
-        } else {
-            3
-        };
-        let s = format!("{v:.decimals$}");
-        let s = if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        };
-        if s == "-0" {
-            "0".into()
-        } else {
-            s
-        }
-    }
-}
-
-/// The range and the tick labels of a linear axis for data within
-/// `bounds` (None: no data), as the plots draw a y axis (before any room is
-/// made for the legend); with `from_zero` the range includes 0.
-pub fn linear_axis(bounds: Option<(f64, f64)>, from_zero: bool) -> (Range<f64>, Vec<String>) {
-    let range = y_axis_range(bounds, false, from_zero);
-    let ticks = RangedCoordf64::from(range.clone()).key_points(BoldPoints(Y_TICKS));
-    let format = TickFormat::new(&ticks);
-    let labels = ticks.iter().map(|&v| format.label(v)).collect();
-    (range, labels)
-}
-
-/// The y range of the data within `bounds`.
-fn y_axis_range(bounds: Option<(f64, f64)>, log_y: bool, from_zero: bool) -> Range<f64> {
-    let bounds = match bounds {
-        Some((lo, hi)) if from_zero && !log_y => Some((lo.min(0.0), hi.max(0.0))),
-        b => b,
-    };
-    axis_range(bounds, log_y, 0.04, 0.08)
-}
-
-/// Log-axis tick label: 1e-6, 0.01, 1, 100, 1e4 …
-fn log_tick_label(v: f64) -> String {
-    let e = v.log10();
-    if (e - e.round()).abs() < 1e-6 {
-        let e = e.round() as i32;
-        return match e {
-            -2..=-1 => format!("{:.*}", (-e) as usize, 10f64.powi(e)),
-            0..=3 => format!("{}", 10i32.pow(e as u32)),
-            _ => format!("1e{e}"),
-        };
-    }
-    let s = format!("{v:.1e}");
-    match s.split_once('e') {
-        Some((m, e)) => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
-        None => s,
-    }
-}
-
-/// The x range a contact plot zooms on, for candidates at `x` (any order)
-/// of which `in_contact` touch: the contact zone widened by half its extent
-/// on each side (at least 2% of the surface's), and out to the nearest
-/// candidate beyond each end, so that the pressure's fall to zero shows;
-/// within the candidates' extent. None (the whole surface) when nothing
-/// touches, or when the zoom would still show more than 70% of it.
-pub fn contact_zoom(x: &[f64], in_contact: &[bool]) -> Option<Range<f64>> {
-    let finite = || x.iter().copied().filter(|v| v.is_finite());
-    let (lo, hi) = bounds(finite().collect::<Vec<_>>().iter())?;
-    let touching = x
-        .iter()
-        .zip(in_contact)
-        .filter(|(v, &c)| c && v.is_finite())
-        .map(|(v, _)| v);
-    let (c_lo, c_hi) = bounds(touching)?;
-    let margin = (0.5 * (c_hi - c_lo)).max(0.02 * (hi - lo));
-    let below = finite()
-        .filter(|&v| v < c_lo)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let above = finite().filter(|&v| v > c_hi).fold(f64::INFINITY, f64::min);
-    let z_lo = (c_lo - margin).min(below).max(lo);
-    let z_hi = (c_hi + margin).max(above).min(hi);
-    (z_hi - z_lo <= 0.7 * (hi - lo)).then_some(z_lo..z_hi)
-}
-
-/// A line through points sorted by `x` becomes runs that do not join what
-/// is not joined: a NaN (a break, see [`Series`]) goes between two
-/// neighbours of different `group`s, and across a gap more than 4 times
-/// the wider of the spacings on either side of it (a hole in the surface).
-pub fn break_lines(x: &[f64], y: &[f64], group: &[usize]) -> (Vec<f64>, Vec<f64>) {
-    let n = x.len().min(y.len());
-    let dx: Vec<f64> = (1..n).map(|i| x[i] - x[i - 1]).collect();
-    // The nearest positive spacing before and after each gap.
-    let before = |j: usize| dx[..j].iter().rev().copied().find(|d| *d > 0.0);
-    let after = |j: usize| dx[j + 1..].iter().copied().find(|d| *d > 0.0);
-    let (mut bx, mut by) = (Vec::with_capacity(n + 4), Vec::with_capacity(n + 4));
-    for i in 0..n {
-        if i > 0 {
-            let j = i - 1;
-            let other_group = group.get(i) != group.get(j);
-            let neighbours = match (before(j), after(j)) {
-                (Some(a), Some(b)) => Some(a.max(b)),
-                (a, b) => a.or(b),
-            };
-            let hole = neighbours.is_some_and(|h| dx[j] > 4.0 * h);
-            if other_group || hole {
-                bx.push(f64::NAN);
-                by.push(f64::NAN);
-            }
-        }
-        bx.push(x[i]);
-        by.push(y[i]);
-    }
-    (bx, by)
-}
-
 /// Colours (the "tab10" palette), by series index.
 const PALETTE: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
@@ -612,20 +318,23 @@ fn render(
     encode_png(&drawn, WIDTH, HEIGHT)
 }
 
-#[allow(clippy::too_many_arguments)]
-fn draw(
-    root: &DrawingArea<Canvas, Shift>,
-    font: &FontRef<'static>,
-    title: &str,
-    x_label: &str,
-    y_label: &str,
-    series: &[Series],
-    log_y: bool,
-    axes: &Axes,
-) -> Result<(), String> {
-    let e = |e: DrawingAreaErrorKind<_>| e.to_string();
-    root.fill(&WHITE).map_err(e)?;
+/// What a plot shows, decided before anything is drawn.
+struct Layout {
+    /// The series cut to what can be drawn.
+    cleaned: Vec<Clean>,
+    has_data: bool,
+    x_range: Range<f64>,
+    y_range: Range<f64>,
+    /// The series with a legend entry.
+    labelled: Vec<usize>,
+    /// Where the legend goes.
+    position: SeriesLabelPosition,
+}
 
+/// The data cut to what can be drawn, the axis ranges, and a legend corner
+/// that covers no data (the y axis raised to make room when every corner
+/// would).
+fn layout(series: &[Series], log_y: bool, axes: &Axes) -> Layout {
     // A given x range, padded as the data's would be; the data cut to it.
     let given_x = axes
         .x_range
@@ -702,6 +411,38 @@ fn draw(
         }
         position = SeriesLabelPosition::UpperRight;
     }
+    Layout {
+        cleaned,
+        has_data,
+        x_range,
+        y_range,
+        labelled,
+        position,
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn draw(
+    root: &DrawingArea<Canvas, Shift>,
+    font: &FontRef<'static>,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    log_y: bool,
+    axes: &Axes,
+) -> Result<(), String> {
+    let e = |e: DrawingAreaErrorKind<_>| e.to_string();
+    root.fill(&WHITE).map_err(e)?;
+
+    let Layout {
+        cleaned,
+        has_data,
+        x_range,
+        y_range,
+        labelled,
+        position,
+    } = layout(series, log_y, axes);
 
     // The tick labels plotters will draw, to size the y label area to them.
     let x_ticks = RangedCoordf64::from(x_range.clone()).key_points(BoldPoints(X_TICKS));
@@ -946,8 +687,11 @@ fn text_width(font: &FontRef<'static>, size: f64, text: &str) -> f64 {
 }
 
 /// The bitmap backend with its own text rendering. (`plotters`' `ab_glyph`
-/// renderer drops each glyph's side bearing, which gives uneven letter
-/// spacing; here glyphs are placed at their outline bounds.) Layout and
+/// renderer, in 0.3.7, drops each glyph's side bearing, which gives uneven
+/// letter spacing, and puts the baseline half the font size below the
+/// anchor, which lifts tick labels off their grid lines; here glyphs are
+/// placed at their outline bounds. Tried and kept for issue 25: with
+/// `plotters`' own text the plots read "candi dates", "lambda _n".) Layout and
 /// drawing share one measure, so labels sit where plotters expects them.
 struct Canvas<'a> {
     inner: BitMapBackend<'a>,
@@ -1190,436 +934,4 @@ fn read_font(candidates: &[PathBuf]) -> Result<(&'static [u8], FontRef<'static>)
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn temp_dir(tag: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("ubr-plot-{tag}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("create a temporary directory");
-        dir
-    }
-
-    /// Decodes a PNG file: (width, height, RGB bytes).
-    fn decode(path: &Path) -> (u32, u32, Vec<u8>) {
-        let bytes = std::fs::read(path).expect("the PNG exists");
-        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "PNG signature");
-        let mut reader = png::Decoder::new(std::io::Cursor::new(bytes))
-            .read_info()
-            .expect("a valid PNG header");
-        let mut buf = vec![0; reader.output_buffer_size().expect("a size")];
-        let info = reader.next_frame(&mut buf).expect("valid PNG data");
-        assert_eq!(info.color_type, png::ColorType::Rgb);
-        buf.truncate(info.buffer_size());
-        (info.width, info.height, buf)
-    }
-
-    /// Number of pixels that are neither white nor grey (i.e. coloured).
-    fn coloured_pixels(rgb: &[u8]) -> usize {
-        rgb.chunks(3)
-            .filter(|p| {
-                let (mx, mn) = (p.iter().max(), p.iter().min());
-                matches!((mx, mn), (Some(a), Some(b)) if a - b > 60)
-            })
-            .count()
-    }
-
-    fn dark_pixels(rgb: &[u8]) -> usize {
-        rgb.chunks(3).filter(|p| p.iter().all(|&c| c < 100)).count()
-    }
-
-    /// The contact plot of the examples: computed pressure, Hertz curve,
-    /// scattered nodal values and a friction pair.
-    fn contact_example(path: &Path) -> Result<(), String> {
-        let b = 1.2;
-        let p0 = 150.0;
-        let hertz = |x: f64| {
-            if x.abs() < b {
-                p0 * (1.0 - (x / b).powi(2)).sqrt()
-            } else {
-                0.0
-            }
-        };
-        let xs: Vec<f64> = (0..=400).map(|i| -2.0 + 4.0 * i as f64 / 400.0).collect();
-        let ph: Vec<f64> = xs.iter().map(|&x| hertz(x)).collect();
-        let xn: Vec<f64> = (0..=40).map(|i| -2.0 + 4.0 * i as f64 / 40.0).collect();
-        let pn: Vec<f64> = xn
-            .iter()
-            .enumerate()
-            .map(|(i, &x)| (hertz(x) * (1.0 + 0.04 * ((i * 7 % 5) as f64 - 2.0))).max(0.0))
-            .collect();
-        let tn: Vec<f64> = xn
-            .iter()
-            .zip(&pn)
-            .map(|(&x, &p)| (0.3 * p).min(40.0 * x.abs()))
-            .collect();
-        let bound: Vec<f64> = pn.iter().map(|p| 0.3 * p).collect();
-        let scatter: Vec<f64> = pn.iter().map(|p| p * 1.02 + 3.0).collect();
-        plot_lines(
-            path,
-            "Contact pressure along the surface",
-            "position along the surface x",
-            "traction",
-            &[
-                Series {
-                    label: "pressure λn",
-                    x: &xn,
-                    y: &pn,
-                    style: Style::Line,
-                },
-                Series {
-                    label: "Hertz",
-                    x: &xs,
-                    y: &ph,
-                    style: Style::DashedLine,
-                },
-                Series {
-                    label: "nodal pressure (other rank)",
-                    x: &xn,
-                    y: &scatter,
-                    style: Style::Points,
-                },
-                Series {
-                    label: "|tangential traction|",
-                    x: &xn,
-                    y: &tn,
-                    style: Style::Line,
-                },
-                Series {
-                    label: "friction bound μ λn",
-                    x: &xn,
-                    y: &bound,
-                    style: Style::DashedLine,
-                },
-            ],
-            false,
-        )
-    }
-
-    fn history_example(path: &Path) -> Result<(), String> {
-        let it: Vec<f64> = (0..60).map(f64::from).collect();
-        let r1: Vec<f64> = it
-            .iter()
-            .map(|&k| 0.8f64.powf(k) * (1.0 + 0.3 * (k * 0.7).sin()))
-            .collect();
-        let r2: Vec<f64> = it.iter().map(|&k| 3e-1 * 0.6f64.powf(k)).collect();
-        // A zero and a negative value on the log axis are dropped.
-        let mut r3: Vec<f64> = it.iter().map(|&k| 1e-2 * 0.85f64.powf(k)).collect();
-        r3[10] = 0.0;
-        r3[20] = -1.0;
-        r3[30] = f64::NAN;
-        plot_history(
-            path,
-            "Uzawa block relaxation: convergence",
-            &it,
-            &[
-                ("displacement change", &r1),
-                ("multiplier change", &r2),
-                ("complementarity", &r3),
-            ],
-        )
-    }
-
-    #[test]
-    fn contact_plot_is_a_nonblank_png() {
-        let dir = temp_dir("contact");
-        let path = dir.join("contact.png");
-        contact_example(&path).expect("plot");
-        let (w, h, rgb) = decode(&path);
-        assert_eq!((w, h), (WIDTH, HEIGHT));
-        assert!(coloured_pixels(&rgb) > 5000, "curves are drawn");
-        assert!(dark_pixels(&rgb) > 2000, "text and axes are drawn");
-        // Only the plot: no temporary file left behind.
-        assert_eq!(std::fs::read_dir(&dir).map(|d| d.count()).ok(), Some(1));
-        if let Ok(out) = std::env::var("UBR_PLOT_EXAMPLES") {
-            let out = PathBuf::from(out);
-            let _ = std::fs::create_dir_all(&out);
-            contact_example(&out.join("contact.png")).expect("example plot");
-        }
-        let _ = std::fs::remove_dir_all(&dir);
-    }
-
-    #[test]
-    fn history_plot_is_a_nonblank_png() {
-        let dir = temp_dir("history");
-        let path = dir.join("history.png");
-        history_example(&path).expect("plot");
-        let (w, h, rgb) = decode(&path);
-        assert_eq!((w, h), (WIDTH, HEIGHT));
-        assert!(coloured_pixels(&rgb) > 3000, "curves are drawn");
-        assert!(dark_pixels(&rgb) > 2000, "text and axes are drawn");
-        if let Ok(out) = std::env::var("UBR_PLOT_EXAMPLES") {
-            let out = PathBuf::from(out);
-            let _ = std::fs::create_dir_all(&out);
-            history_example(&out.join("history.png")).expect("example plot");
-        }
-        let _ = std::fs::remove_dir_all(&dir);
-    }
-
-    #[test]
-    fn degenerate_data_never_panics() {
-        let dir = temp_dir("degenerate");
-        let nan = [f64::NAN, f64::INFINITY, f64::NEG_INFINITY];
-        let cases: Vec<(&str, Vec<Series>, bool)> = vec![
-            ("none", vec![], false),
-            ("none_log", vec![], true),
-            (
-                "empty",
-                vec![Series {
-                    label: "empty",
-                    x: &[],
-                    y: &[],
-                    style: Style::Line,
-                }],
-                true,
-            ),
-            (
-                "nonfinite",
-                vec![Series {
-                    label: "nan",
-                    x: &[0.0, 1.0, 2.0],
-                    y: &nan,
-                    style: Style::DashedLine,
-                }],
-                false,
-            ),
-            (
-                "nonpositive_log",
-                vec![Series {
-                    label: "zeros",
-                    x: &[0.0, 1.0, 2.0],
-                    y: &[0.0, -1.0, 0.0],
-                    style: Style::Points,
-                }],
-                true,
-            ),
-            (
-                "single",
-                vec![Series {
-                    label: "",
-                    x: &[3.0],
-                    y: &[3.0],
-                    style: Style::Line,
-                }],
-                false,
-            ),
-            (
-                "constant_log",
-                vec![Series {
-                    label: "const",
-                    x: &[1.0, 1.0],
-                    y: &[1e-300, 1e-300],
-                    style: Style::Line,
-                }],
-                true,
-            ),
-            (
-                "huge",
-                vec![Series {
-                    label: "huge",
-                    x: &[-f64::MAX, f64::MAX],
-                    y: &[f64::MAX, -f64::MAX],
-                    style: Style::Line,
-                }],
-                false,
-            ),
-            (
-                "large",
-                vec![Series {
-                    label: "large",
-                    x: &[-1e300, 1e300],
-                    y: &[1e300, -1e300],
-                    style: Style::Points,
-                }],
-                false,
-            ),
-            (
-                "wide_log",
-                vec![Series {
-                    label: "600 decades",
-                    x: &[0.0, 1.0, 2.0, 3.0],
-                    y: &[1e300, 1.0, 1e-300, 5e-324],
-                    style: Style::Line,
-                }],
-                true,
-            ),
-            (
-                "tiny",
-                vec![Series {
-                    label: "tiny",
-                    x: &[0.0, 1e-310, 2e-310],
-                    y: &[1.0, 1.0 + 1e-15, 1.0],
-                    style: Style::Line,
-                }],
-                false,
-            ),
-            (
-                "mismatched",
-                vec![Series {
-                    label: "mismatched lengths",
-                    x: &[0.0, 1.0, 2.0, 3.0],
-                    y: &[1.0, 2.0],
-                    style: Style::Points,
-                }],
-                false,
-            ),
-        ];
-        for (name, series, log_y) in cases {
-            let path = dir.join(format!("{name}.png"));
-            plot_lines(&path, name, "x", "y", &series, log_y)
-                .unwrap_or_else(|e| panic!("case {name}: {e}"));
-            let (w, _, rgb) = decode(&path);
-            assert_eq!(w, WIDTH);
-            assert!(dark_pixels(&rgb) > 500, "case {name}: axes are drawn");
-        }
-        let _ = std::fs::remove_dir_all(&dir);
-    }
-
-    #[test]
-    fn failed_write_names_the_file_and_leaves_nothing() {
-        let dir = temp_dir("fail");
-        let path = dir.join("missing/plot.png");
-        let e = plot_history(&path, "t", &[0.0, 1.0], &[("r", &[1.0, 0.1])])
-            .expect_err("missing directory");
-        assert!(e.contains("plot.png"), "{e}");
-        assert_eq!(std::fs::read_dir(&dir).map(|d| d.count()).ok(), Some(0));
-        let _ = std::fs::remove_dir_all(&dir);
-    }
-
-    #[test]
-    fn missing_font_is_a_clear_error() {
-        let dir = temp_dir("font");
-        let not_a_font = dir.join("fake.ttf");
-        std::fs::write(&not_a_font, b"not a font").expect("write");
-        let e = read_font(&[dir.join("missing.ttf"), not_a_font]).expect_err("no usable font");
-        assert!(e.contains("fonts-dejavu-core"), "{e}");
-        assert!(
-            e.contains("missing.ttf") && e.contains("not a usable font"),
-            "{e}"
-        );
-        let _ = std::fs::remove_dir_all(&dir);
-    }
-
-    /// The lowest row with a coloured pixel in a PNG file.
-    fn lowest_coloured_row(path: &Path) -> usize {
-        let (w, _, rgb) = decode(path);
-        rgb.chunks(3)
-            .enumerate()
-            .filter(|(_, p)| {
-                let (mx, mn) = (p.iter().max(), p.iter().min());
-                matches!((mx, mn), (Some(a), Some(b)) if a - b > 60)
-            })
-            .map(|(i, _)| i / w as usize)
-            .max()
-            .unwrap_or(0)
-    }
-
-    /// A line that turns back sharply (a zig-zag through scattered nodes)
-    /// stays where its points are: no spike below its lowest value, past
-    /// the axis (the bitmap backend's joins of nearly parallel legs reached
-    /// 100 px below it, into the tick labels).
-    #[test]
-    fn sharp_turns_do_not_spike() {
-        let dir = temp_dir("spike");
-        // Nodes 2 px apart, alternately at 0 and 1: the legs of each turn
-        // nearly parallel (the bound s at scattered 3D nodes).
-        // Scattered nodes (a 3D bound against the distance): close in x,
-        // scattered in y, the legs of each turn nearly parallel.
-        let mut seed = 12345u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
-        let mut x: Vec<f64> = (0..300).map(|_| 0.6 * next()).collect();
-        x.sort_by(f64::total_cmp);
-        let mut y: Vec<f64> = x
-            .iter()
-            .map(|&v| (40.0 * (1.0 - v / 0.6) + 10.0 * (next() - 0.5)).max(0.0))
-            .collect();
-        x.extend([1.0, 3.0]);
-        y.extend([0.0, 0.0]);
-        let mut lowest = Vec::new();
-        for (name, style) in [("points", Style::Points), ("line", Style::Line)] {
-            let path = dir.join(format!("{name}.png"));
-            let series = [Series {
-                label: "",
-                x: &x,
-                y: &y,
-                style,
-            }];
-            plot_lines(&path, name, "x", "y", &series, false).expect("plot");
-            lowest.push(lowest_coloured_row(&path));
-        }
-        // A dot reaches 4 px below its centre, a 3 px line 1-2 px.
-        assert!(
-            lowest[1] <= lowest[0],
-            "line {} vs points {}",
-            lowest[1],
-            lowest[0]
-        );
-        let _ = std::fs::remove_dir_all(&dir);
-    }
-
-    /// A given x range cuts lines at its border and drops points outside.
-    #[test]
-    fn clipping_to_an_x_range() {
-        let c = Clean {
-            runs: vec![vec![(0.0, 0.0), (2.0, 2.0), (4.0, 0.0), (6.0, 2.0)]],
-        };
-        let line = clip_x(
-            Clean {
-                runs: c.runs.clone(),
-            },
-            &(1.0..5.0),
-            true,
-        );
-        assert_eq!(
-            line.runs,
-            vec![vec![(1.0, 1.0), (2.0, 2.0), (4.0, 0.0), (5.0, 1.0)]]
-        );
-        let points = clip_x(c, &(1.0..5.0), false);
-        assert_eq!(points.runs, vec![vec![(2.0, 2.0), (4.0, 0.0)]]);
-        // A segment across the whole range, and one that leaves and comes back.
-        let across = Clean {
-            runs: vec![vec![(0.0, 0.0), (10.0, 10.0)]],
-        };
-        assert_eq!(
-            clip_x(across, &(2.0..3.0), true).runs,
-            vec![vec![(2.0, 2.0), (3.0, 3.0)]]
-        );
-        let back = Clean {
-            runs: vec![vec![(0.0, 0.0), (2.0, 0.0), (0.0, 1.0)]],
-        };
-        assert_eq!(
-            clip_x(back, &(-1.0..1.0), true).runs,
-            vec![vec![(0.0, 0.0), (1.0, 0.0)], vec![(1.0, 0.5), (0.0, 1.0)]]
-        );
-    }
-
-    #[test]
-    fn tick_labels_are_short() {
-        let f = TickFormat::new(&[0.0, 0.5, 1.0]);
-        assert_eq!(f.label(0.0), "0");
-        assert_eq!(f.label(0.5), "0.5");
-        let f = TickFormat::new(&[100.0, 150.0, 200.0]);
-        assert_eq!(f.label(150.0), "150");
-        let f = TickFormat::new(&[0.0, 5e-4, 1e-3, 1.5e-3]);
-        assert_eq!(f.label(5e-4), "0.0005");
-        assert_eq!(f.label(1.5e-3), "0.0015");
-        let f = TickFormat::new(&[0.0, 1e-4, 2e-4]);
-        assert_eq!(f.label(2e-4), "2e-4");
-        let f = TickFormat::new(&[1.4e6, 1.5e6]);
-        assert_eq!(f.label(1.5e6), "1.5e6");
-        // Neighbours stay distinct with a fine step.
-        let f = TickFormat::new(&[-1.2345e-7, -1.2344e-7]);
-        assert_ne!(f.label(-1.2345e-7), f.label(-1.2344e-7));
-        assert_eq!(log_tick_label(1e-6), "1e-6");
-        assert_eq!(log_tick_label(0.01), "0.01");
-        assert_eq!(log_tick_label(1.0), "1");
-        assert_eq!(log_tick_label(1000.0), "1000");
-        assert_eq!(log_tick_label(1e4), "1e4");
-        assert_eq!(log_tick_label(3e-5), "3e-5");
-    }
-}
+mod tests;
