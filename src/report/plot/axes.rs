@@ -79,7 +79,7 @@ pub(super) fn clip_x(c: Clean, range: &Range<f64>, line: bool) -> Clean {
 }
 
 /// Largest magnitude drawn: beyond it axis widths would overflow.
-pub(super) const MAX_ABS: f64 = 1e300;
+const MAX_ABS: f64 = 1e300;
 /// Most decades a log axis spans (plotters' log ticks need a finite ratio).
 pub(super) const MAX_DECADES: f64 = 250.0;
 

@@ -1,4 +1,6 @@
+use super::canvas::read_font;
 use super::*;
+use std::path::PathBuf;
 
 fn temp_dir(tag: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("ubr-plot-{tag}-{}", std::process::id()));
