@@ -9,8 +9,8 @@ use crate::contact::hertz;
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
 use crate::options::{Friction, Settings};
-use crate::solver::allreduce_max;
 use crate::solver::stopping::StopRule;
+use mpi::collective::SystemOperation;
 use mpi::traits::*;
 use std::path::Path;
 
@@ -47,10 +47,15 @@ pub fn write_root_files(m: &Results) -> Result<(), Error> {
 
 /// Makes a write failure on any rank the failure of all.
 pub fn collective<C: Communicator>(world: &C, outcome: Result<(), Error>) -> Result<(), Error> {
-    let failed = allreduce_max(world, if outcome.is_err() { 1.0 } else { 0.0 });
+    let mut failed = 0u8;
+    world.all_reduce_into(
+        &u8::from(outcome.is_err()),
+        &mut failed,
+        SystemOperation::max(),
+    );
     match outcome {
         Err(e) => Err(e),
-        Ok(()) if failed > 0.0 => Err(Error::BadInput(
+        Ok(()) if failed > 0 => Err(Error::BadInput(
             "writing an output file failed on rank 0".into(),
         )),
         Ok(()) => Ok(()),
