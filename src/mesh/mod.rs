@@ -61,15 +61,6 @@ impl CellKind {
         }
     }
 
-    pub fn dim(self) -> usize {
-        match self {
-            CellKind::Point => 0,
-            CellKind::Line => 1,
-            CellKind::Triangle | CellKind::Quadrilateral => 2,
-            CellKind::Tetrahedron | CellKind::Hexahedron | CellKind::Prism | CellKind::Pyramid => 3,
-        }
-    }
-
     pub fn nodes(self) -> usize {
         match self {
             CellKind::Point => 1,

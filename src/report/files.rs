@@ -432,7 +432,7 @@ fn cell_fields<'a>(p: &'a PieceData, ranks: &'a [i32]) -> Vec<Field<'a>> {
 }
 
 /// Every rank's `mine` concatenated in rank order on rank 0 (empty elsewhere).
-fn gather<C: Communicator, T: Equivalence + Clone>(world: &C, mine: &[T]) -> Vec<T> {
+pub(super) fn gather<C: Communicator, T: Equivalence + Clone>(world: &C, mine: &[T]) -> Vec<T> {
     if world.rank() != 0 {
         world.process_at_rank(0).send(mine);
         return Vec::new();

@@ -237,15 +237,7 @@ pub fn mesh_label(source: &MeshSource) -> String {
 
 /// Gathers every rank's rows on rank 0, sorted by node tag (empty elsewhere).
 pub fn gather_rows<C: Communicator>(world: &C, rows: &[ContactRow]) -> Vec<ContactRow> {
-    if world.rank() != 0 {
-        world.process_at_rank(0).send(rows);
-        return Vec::new();
-    }
-    let mut all = rows.to_vec();
-    for p in 1..world.size() {
-        let (v, _) = world.process_at_rank(p).receive_vec::<ContactRow>();
-        all.extend(v);
-    }
+    let mut all = files::gather(world, rows);
     all.sort_by_key(|r| r.node);
     all
 }

@@ -134,26 +134,6 @@ pub fn plot_with_axes(
     write_atomic(path, &png).map_err(|e| format!("cannot write plot '{}': {e}", path.display()))
 }
 
-/// Convergence plot: each `(label, values)` against `iterations`, as lines
-/// on a logarithmic y axis (zeros and negative values are dropped). Atomic.
-pub fn plot_history(
-    path: &Path,
-    title: &str,
-    iterations: &[f64],
-    series: &[(&str, &[f64])],
-) -> Result<(), String> {
-    let s: Vec<Series> = series
-        .iter()
-        .map(|&(label, y)| Series {
-            label,
-            x: iterations,
-            y,
-            style: Style::Line,
-        })
-        .collect();
-    plot_lines(path, title, "iteration", "residual", &s, true)
-}
-
 /// One curve of `-plot_history`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HistoryCurve {

@@ -2,6 +2,26 @@ use super::canvas::read_font;
 use super::*;
 use std::path::PathBuf;
 
+/// A convergence plot: each `(label, values)` against `iterations`, as
+/// lines on a logarithmic y axis.
+fn plot_history(
+    path: &Path,
+    title: &str,
+    iterations: &[f64],
+    series: &[(&str, &[f64])],
+) -> Result<(), String> {
+    let s: Vec<Series> = series
+        .iter()
+        .map(|&(label, y)| Series {
+            label,
+            x: iterations,
+            y,
+            style: Style::Line,
+        })
+        .collect();
+    plot_lines(path, title, "iteration", "residual", &s, true)
+}
+
 fn temp_dir(tag: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("ubr-plot-{tag}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
