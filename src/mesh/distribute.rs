@@ -11,10 +11,12 @@
 use super::{Cells, Group, Mesh};
 use crate::error::Error;
 use mpi::traits::*;
+use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 
-/// The part of the mesh a rank works on.
-#[derive(Clone, Debug)]
+/// The part of the mesh a rank works on (sent from rank 0 to its rank
+/// serialized with `postcard`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct LocalMesh {
     pub dim: usize,
     pub global_nodes: usize,
@@ -473,122 +475,6 @@ impl<'a> Numbering<'a> {
     }
 }
 
-// --- wire format: little-endian u64 / f64, strings as length + bytes -------
-
-struct Writer(Vec<u8>);
-impl Writer {
-    fn u(&mut self, v: usize) {
-        self.0.extend_from_slice(&(v as u64).to_le_bytes());
-    }
-    fn us(&mut self, v: &[usize]) {
-        self.u(v.len());
-        for &x in v {
-            self.u(x);
-        }
-    }
-    fn cells(&mut self, c: &Cells) {
-        let (nodes, stride, offsets) = c.parts();
-        self.us(nodes);
-        self.u(stride);
-        self.us(offsets);
-    }
-    fn f(&mut self, v: &[f64]) {
-        self.u(v.len());
-        for &x in v {
-            self.0.extend_from_slice(&x.to_le_bytes());
-        }
-    }
-}
-
-struct Reader<'a>(&'a [u8], usize);
-impl Reader<'_> {
-    fn u(&mut self) -> usize {
-        let v = u64::from_le_bytes(self.0[self.1..self.1 + 8].try_into().unwrap());
-        self.1 += 8;
-        v as usize
-    }
-    fn us(&mut self) -> Vec<usize> {
-        let n = self.u();
-        (0..n).map(|_| self.u()).collect()
-    }
-    fn cells(&mut self) -> Cells {
-        let nodes = self.us();
-        let stride = self.u();
-        Cells::from_parts(nodes, stride, self.us())
-    }
-    fn f(&mut self) -> Vec<f64> {
-        let n = self.u();
-        (0..n)
-            .map(|_| {
-                let v = f64::from_le_bytes(self.0[self.1..self.1 + 8].try_into().unwrap());
-                self.1 += 8;
-                v
-            })
-            .collect()
-    }
-}
-
-fn encode(m: &LocalMesh) -> Vec<u8> {
-    let mut w = Writer(Vec::new());
-    w.u(m.dim);
-    w.u(m.global_nodes);
-    w.u(m.global_cells);
-    w.us(&m.cell_kinds.bytes().map(|b| b as usize).collect::<Vec<_>>());
-    w.u(m.owned_start);
-    w.u(m.owned_count);
-    w.us(&m.node_global);
-    let tags: Vec<usize> = m.node_tag.iter().map(|&t| t as usize).collect();
-    w.us(&tags);
-    w.f(&m.coords);
-    w.cells(&m.cells);
-    w.u(m.groups.len());
-    for g in &m.groups {
-        w.us(&g.name.bytes().map(|b| b as usize).collect::<Vec<_>>());
-        w.u(g.dim);
-        w.cells(&g.conn);
-    }
-    w.0
-}
-
-fn decode(buf: &[u8]) -> LocalMesh {
-    let mut r = Reader(buf, 0);
-    let dim = r.u();
-    let global_nodes = r.u();
-    let global_cells = r.u();
-    let kinds: Vec<u8> = r.us().into_iter().map(|b| b as u8).collect();
-    let cell_kinds = String::from_utf8_lossy(&kinds).into_owned();
-    let owned_start = r.u();
-    let owned_count = r.u();
-    let node_global = r.us();
-    let node_tag = r.us().into_iter().map(|t| t as u64).collect();
-    let coords = r.f();
-    let cells = r.cells();
-    let ng = r.u();
-    let groups = (0..ng)
-        .map(|_| {
-            let name: Vec<u8> = r.us().into_iter().map(|b| b as u8).collect();
-            Group {
-                name: String::from_utf8_lossy(&name).into_owned(),
-                dim: r.u(),
-                conn: r.cells(),
-            }
-        })
-        .collect();
-    LocalMesh {
-        dim,
-        global_nodes,
-        global_cells,
-        cell_kinds,
-        owned_start,
-        owned_count,
-        node_global,
-        node_tag,
-        coords,
-        cells,
-        groups,
-    }
-}
-
 /// Rank 0 runs `load` (read or generate) and `partition` (the local meshes of
 /// every rank, e.g. [`partition_nodes`] then [`split`]); every rank gets its
 /// local mesh. An error on rank 0 reaches every rank, so the caller's error
@@ -619,7 +505,8 @@ pub fn distribute<C: Communicator>(
                 let mut status = [0u64];
                 root.broadcast_into(&mut status[..]);
                 for (p, local) in locals.iter().enumerate().skip(1) {
-                    let buf = encode(local);
+                    let buf = postcard::to_allocvec(local)
+                        .map_err(|e| Error::Internal(format!("serializing the local mesh: {e}")))?;
                     world.process_at_rank(p as i32).send(&buf[..]);
                 }
                 locals.truncate(1);
@@ -643,7 +530,8 @@ pub fn distribute<C: Communicator>(
             });
         }
         let (buf, _) = root.receive_vec::<u8>();
-        Ok(decode(&buf))
+        postcard::from_bytes(&buf)
+            .map_err(|e| Error::Internal(format!("reading the local mesh from rank 0: {e}")))
     }
 }
 
@@ -697,11 +585,13 @@ mod tests {
         assert_eq!(locals[0].owned_start, 0);
         assert_eq!(locals[1].owned_start, 6);
         for l in &locals {
-            let back = decode(&encode(l));
+            let wire = postcard::to_allocvec(l).unwrap();
+            let back: LocalMesh = postcard::from_bytes(&wire).unwrap();
             assert_eq!(back.node_global, l.node_global);
             assert_eq!(back.cells, l.cells);
             assert_eq!(back.cell_kinds, "triangles");
             assert_eq!(back.coords, l.coords);
+            assert_eq!(back.node_tag, l.node_tag);
             assert_eq!(back.groups, l.groups);
             // every cell touches an owned node
             for c in &l.cells {

@@ -194,116 +194,19 @@ pub fn generate_quad(h: f64) -> Result<Mesh, MeshError> {
              (about {estimate:.2e} nodes, the limit is {MAX_NODES:.0e})"
         )));
     }
-    let (n, m) = (nf as usize, mf as usize);
-    let arc = |theta: f64| {
-        let (sin, cos) = theta.sin_cos();
-        [R * sin, R - R * cos]
+    let q = QuadBlocks {
+        n: nf as usize,
+        m: mf as usize,
     };
-    let blend =
-        |p: [f64; 2], q: [f64; 2], u: f64| [p[0] + u * (q[0] - p[0]), p[1] + u * (q[1] - p[1])];
-    let frac = |i: usize, n: usize| i as f64 / n as f64;
-    // Square node (i, j): i rows down from the centre, j columns right.
-    let sq = |i: usize, j: usize| i * (n + 1) + j;
-    let sq_x = |i: usize, j: usize| [a * frac(j, n), R - a * frac(i, n)];
-    // Lower block row k >= 1 (k = 0 is the square's last row), column j.
-    let lower = |k: usize, j: usize| {
-        if k == 0 {
-            sq(n, j)
-        } else {
-            (n + 1) * (n + 1) + (k - 1) * (n + 1) + j
-        }
-    };
-    // Right block column k >= 1 (k = 0 is the square's last column), row i;
-    // its row n is the lower block's column n (the diagonal).
-    let right = |k: usize, i: usize| {
-        if k == 0 {
-            sq(i, n)
-        } else if i == n {
-            lower(k, n)
-        } else {
-            (n + 1) * (n + 1) + m * (n + 1) + (k - 1) * n + i
-        }
-    };
-    let n_nodes = (n + 1) * (n + 1) + m * (n + 1) + m * n;
-    let quarter = std::f64::consts::FRAC_PI_4;
-    // Exact on the straight edges and at the arc's ends.
-    let lower_x = |k: usize, j: usize| {
-        let q = if j == 0 {
-            [0.0, 0.0]
-        } else {
-            arc(quarter * frac(j, n))
-        };
-        let mut p = if k == m {
-            q
-        } else {
-            blend(sq_x(n, j), q, frac(k, m))
-        };
-        if j == 0 {
-            p[0] = 0.0;
-        }
-        p
-    };
-    let right_x = |k: usize, i: usize| {
-        let q = if i == 0 {
-            [R, R]
-        } else {
-            arc(FRAC_PI_2 - quarter * frac(i, n))
-        };
-        let mut p = if k == m {
-            q
-        } else {
-            blend(sq_x(i, n), q, frac(k, m))
-        };
-        if i == 0 {
-            p[1] = R;
-        }
-        p
-    };
-    let mut coords = vec![0.0; 2 * n_nodes];
-    let mut set = |v: usize, p: [f64; 2]| {
-        coords[2 * v] = p[0];
-        coords[2 * v + 1] = p[1];
-    };
-    for i in 0..=n {
-        for j in 0..=n {
-            set(sq(i, j), sq_x(i, j));
-        }
-    }
-    for k in 1..=m {
-        for j in 0..=n {
-            set(lower(k, j), lower_x(k, j));
-        }
-        for i in 0..n {
-            set(right(k, i), right_x(k, i));
-        }
-    }
-
-    let mut cells = Vec::with_capacity(4 * (n * n + 2 * n * m));
-    for i in 0..n {
-        for j in 0..n {
-            cells.extend_from_slice(&[sq(i, j), sq(i + 1, j), sq(i + 1, j + 1), sq(i, j + 1)]);
-        }
-    }
-    for k in 0..m {
-        for j in 0..n {
-            cells.extend_from_slice(&[
-                lower(k, j),
-                lower(k + 1, j),
-                lower(k + 1, j + 1),
-                lower(k, j + 1),
-            ]);
-        }
-    }
-    for k in 0..m {
-        for i in 0..n {
-            cells.extend_from_slice(&[
-                right(k, i),
-                right(k, i + 1),
-                right(k + 1, i + 1),
-                right(k + 1, i),
-            ]);
-        }
-    }
+    let (n, m) = (q.n, q.m);
+    let (sq, lower, right) = (
+        |i, j| q.sq(i, j),
+        |k, j| q.lower(k, j),
+        |k, i| q.right(k, i),
+    );
+    let n_nodes = q.num_nodes();
+    let coords = q.coords(a);
+    let cells = q.cells();
     // Boundary groups along the counter-clockwise boundary, as generate's.
     let path = |nodes: Vec<usize>| -> Cells {
         Cells::uniform(nodes.windows(2).flatten().copied().collect(), 2)
@@ -338,6 +241,151 @@ pub fn generate_quad(h: f64) -> Result<Mesh, MeshError> {
             line("top", path(top)),
         ],
     })
+}
+
+/// The node numbering of [`generate_quad`]'s mesh: the `n x n` square,
+/// then the lower block of `n x m` cells, then the right one.
+struct QuadBlocks {
+    n: usize,
+    m: usize,
+}
+
+impl QuadBlocks {
+    /// Square node (i, j): i rows down from the centre, j columns right.
+    fn sq(&self, i: usize, j: usize) -> usize {
+        i * (self.n + 1) + j
+    }
+
+    /// Lower block row k >= 1 (k = 0 is the square's last row), column j.
+    fn lower(&self, k: usize, j: usize) -> usize {
+        let n = self.n;
+        if k == 0 {
+            self.sq(n, j)
+        } else {
+            (n + 1) * (n + 1) + (k - 1) * (n + 1) + j
+        }
+    }
+
+    /// Right block column k >= 1 (k = 0 is the square's last column), row
+    /// i; its row n is the lower block's column n (the diagonal).
+    fn right(&self, k: usize, i: usize) -> usize {
+        let (n, m) = (self.n, self.m);
+        if k == 0 {
+            self.sq(i, n)
+        } else if i == n {
+            self.lower(k, n)
+        } else {
+            (n + 1) * (n + 1) + m * (n + 1) + (k - 1) * n + i
+        }
+    }
+
+    fn num_nodes(&self) -> usize {
+        let (n, m) = (self.n, self.m);
+        (n + 1) * (n + 1) + m * (n + 1) + m * n
+    }
+
+    /// The coordinates of every node, for the square's side `a`.
+    fn coords(&self, a: f64) -> Vec<f64> {
+        let (n, m) = (self.n, self.m);
+        let arc = |theta: f64| {
+            let (sin, cos) = theta.sin_cos();
+            [R * sin, R - R * cos]
+        };
+        let blend =
+            |p: [f64; 2], q: [f64; 2], u: f64| [p[0] + u * (q[0] - p[0]), p[1] + u * (q[1] - p[1])];
+        let frac = |i: usize, n: usize| i as f64 / n as f64;
+        let sq_x = |i: usize, j: usize| [a * frac(j, n), R - a * frac(i, n)];
+        let quarter = std::f64::consts::FRAC_PI_4;
+        // Exact on the straight edges and at the arc's ends.
+        let lower_x = |k: usize, j: usize| {
+            let q = if j == 0 {
+                [0.0, 0.0]
+            } else {
+                arc(quarter * frac(j, n))
+            };
+            let mut p = if k == m {
+                q
+            } else {
+                blend(sq_x(n, j), q, frac(k, m))
+            };
+            if j == 0 {
+                p[0] = 0.0;
+            }
+            p
+        };
+        let right_x = |k: usize, i: usize| {
+            let q = if i == 0 {
+                [R, R]
+            } else {
+                arc(FRAC_PI_2 - quarter * frac(i, n))
+            };
+            let mut p = if k == m {
+                q
+            } else {
+                blend(sq_x(i, n), q, frac(k, m))
+            };
+            if i == 0 {
+                p[1] = R;
+            }
+            p
+        };
+        let mut coords = vec![0.0; 2 * self.num_nodes()];
+        let mut set = |v: usize, p: [f64; 2]| {
+            coords[2 * v] = p[0];
+            coords[2 * v + 1] = p[1];
+        };
+        for i in 0..=n {
+            for j in 0..=n {
+                set(self.sq(i, j), sq_x(i, j));
+            }
+        }
+        for k in 1..=m {
+            for j in 0..=n {
+                set(self.lower(k, j), lower_x(k, j));
+            }
+            for i in 0..n {
+                set(self.right(k, i), right_x(k, i));
+            }
+        }
+        coords
+    }
+
+    /// The quadrilaterals, 4 nodes each, counter-clockwise.
+    fn cells(&self) -> Vec<usize> {
+        let (n, m) = (self.n, self.m);
+        let (sq, lower, right) = (
+            |i, j| self.sq(i, j),
+            |k, j| self.lower(k, j),
+            |k, i| self.right(k, i),
+        );
+        let mut cells = Vec::with_capacity(4 * (n * n + 2 * n * m));
+        for i in 0..n {
+            for j in 0..n {
+                cells.extend_from_slice(&[sq(i, j), sq(i + 1, j), sq(i + 1, j + 1), sq(i, j + 1)]);
+            }
+        }
+        for k in 0..m {
+            for j in 0..n {
+                cells.extend_from_slice(&[
+                    lower(k, j),
+                    lower(k + 1, j),
+                    lower(k + 1, j + 1),
+                    lower(k, j + 1),
+                ]);
+            }
+        }
+        for k in 0..m {
+            for i in 0..n {
+                cells.extend_from_slice(&[
+                    right(k, i),
+                    right(k, i + 1),
+                    right(k + 1, i + 1),
+                    right(k + 1, i),
+                ]);
+            }
+        }
+        cells
+    }
 }
 
 #[cfg(test)]

@@ -25,6 +25,7 @@ pub mod hertz2d;
 use crate::error::{bad, Error};
 use crate::options::MeshSource;
 use crate::progress;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// The element shapes a mesh can hold: cells of the top dimension and
@@ -58,15 +59,6 @@ impl CellKind {
             (3, 6) => Some(CellKind::Prism),
             (3, 5) => Some(CellKind::Pyramid),
             _ => None,
-        }
-    }
-
-    pub fn dim(self) -> usize {
-        match self {
-            CellKind::Point => 0,
-            CellKind::Line => 1,
-            CellKind::Triangle | CellKind::Quadrilateral => 2,
-            CellKind::Tetrahedron | CellKind::Hexahedron | CellKind::Prism | CellKind::Pyramid => 3,
         }
     }
 
@@ -116,7 +108,7 @@ impl CellKind {
 /// offsets; the first element of another size switches to CSR offsets
 /// (`offsets[e]..offsets[e + 1]` in `nodes`). Equality compares the elements,
 /// not the storage.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Cells {
     nodes: Vec<usize>,
     /// Nodes per element while all have the same count (0: empty, or mixed).
@@ -149,21 +141,6 @@ impl Cells {
             nodes,
             offsets: Vec::new(),
         }
-    }
-
-    /// Rebuilds a list from the parts [`Cells::parts`] gave.
-    pub fn from_parts(nodes: Vec<usize>, stride: usize, offsets: Vec<usize>) -> Cells {
-        Cells {
-            nodes,
-            stride,
-            offsets,
-        }
-    }
-
-    /// The flat node list, the stride (0 if mixed or empty) and the offsets
-    /// (empty unless mixed).
-    pub fn parts(&self) -> (&[usize], usize, &[usize]) {
-        (&self.nodes, self.stride, &self.offsets)
     }
 
     pub fn len(&self) -> usize {
@@ -287,7 +264,7 @@ impl FromIterator<Vec<usize>> for Cells {
 }
 
 /// A boundary (or point) physical group: its name and its elements.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Group {
     /// Physical name from `$PhysicalNames`, or the physical tag as a string when unnamed.
     pub name: String,
@@ -627,8 +604,8 @@ mod tests {
         let all: Vec<&[usize]> = c.iter().collect();
         assert_eq!(all.len(), 4);
         assert_eq!(all[3], &[7, 8, 9]);
-        let (n, s, o) = c.parts();
-        assert_eq!(Cells::from_parts(n.to_vec(), s, o.to_vec()), c);
+        let wire = postcard::to_allocvec(&c).unwrap();
+        assert_eq!(postcard::from_bytes::<Cells>(&wire).unwrap(), c);
         // Equality is on the elements, not the storage.
         let a = Cells::uniform(vec![0, 1, 2, 3, 4, 5], 3);
         let b: Cells = vec![vec![0, 1, 2], vec![3, 4, 5]].into_iter().collect();

@@ -12,6 +12,7 @@ use super::declared::ALL;
 use crate::error::Error;
 use crate::petsc::options;
 use std::sync::Mutex;
+use strsim::osa_distance;
 
 /// The options already named on stderr (by any check of the run): each is
 /// named once.
@@ -105,31 +106,6 @@ const OUR_PREFIXES: &[&str] = &[
     "-pressure",
 ];
 
-/// The restricted Damerau-Levenshtein distance (a transposition counts 1).
-fn distance(a: &str, b: &str) -> usize {
-    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
-    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
-    for (i, row) in d.iter_mut().enumerate() {
-        row[0] = i;
-    }
-    for (j, v) in d[0].iter_mut().enumerate() {
-        *v = j;
-    }
-    for i in 1..=a.len() {
-        for j in 1..=b.len() {
-            let cost = usize::from(a[i - 1] != b[j - 1]);
-            let mut v = (d[i - 1][j] + 1)
-                .min(d[i][j - 1] + 1)
-                .min(d[i - 1][j - 1] + cost);
-            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
-                v = v.min(d[i - 2][j - 2] + 1);
-            }
-            d[i][j] = v;
-        }
-    }
-    d[a.len()][b.len()]
-}
-
 /// How far a name may be from a known one to be suggested.
 fn close_enough(name: &str, distance: usize) -> bool {
     distance <= 2.max(name.len() / 5)
@@ -150,7 +126,7 @@ pub fn suggestion(name: &str, used: &[String]) -> Option<String> {
     };
     for o in ALL {
         match o.prefix() {
-            None => consider(distance(name, o.name()), o.name().to_string()),
+            None => consider(osa_distance(name, o.name()), o.name().to_string()),
             Some(prefix) => {
                 // -dirichlett_left: the prefix mistyped, the group name kept.
                 let chars: Vec<char> = name.chars().collect();
@@ -159,7 +135,7 @@ pub fn suggestion(name: &str, used: &[String]) -> Option<String> {
                     let head: String = chars[..k].iter().collect();
                     let tail: String = chars[k..].iter().collect();
                     if head.ends_with('_') {
-                        consider(distance(&head, prefix), format!("{prefix}{tail}"));
+                        consider(osa_distance(&head, prefix), format!("{prefix}{tail}"));
                     }
                 }
             }
@@ -170,7 +146,7 @@ pub fn suggestion(name: &str, used: &[String]) -> Option<String> {
         .map(|s| s.to_string())
         .chain(used.iter().cloned())
     {
-        consider(distance(name, &n), n);
+        consider(osa_distance(name, &n), n);
     }
     best.map(|(_, s)| s)
 }
@@ -349,8 +325,8 @@ mod tests {
 
     #[test]
     fn distance_counts_transpositions_once() {
-        assert_eq!(distance("abc", "acb"), 1);
-        assert_eq!(distance("kitten", "sitting"), 3);
-        assert_eq!(distance("", "ab"), 2);
+        assert_eq!(osa_distance("abc", "acb"), 1);
+        assert_eq!(osa_distance("kitten", "sitting"), 3);
+        assert_eq!(osa_distance("", "ab"), 2);
     }
 }

@@ -9,8 +9,8 @@ use crate::contact::hertz;
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
 use crate::options::{Friction, Settings};
-use crate::solver::allreduce_max;
 use crate::solver::stopping::StopRule;
+use mpi::collective::SystemOperation;
 use mpi::traits::*;
 use std::path::Path;
 
@@ -47,10 +47,15 @@ pub fn write_root_files(m: &Results) -> Result<(), Error> {
 
 /// Makes a write failure on any rank the failure of all.
 pub fn collective<C: Communicator>(world: &C, outcome: Result<(), Error>) -> Result<(), Error> {
-    let failed = allreduce_max(world, if outcome.is_err() { 1.0 } else { 0.0 });
+    let mut failed = 0u8;
+    world.all_reduce_into(
+        &u8::from(outcome.is_err()),
+        &mut failed,
+        SystemOperation::max(),
+    );
     match outcome {
         Err(e) => Err(e),
-        Ok(()) if failed > 0.0 => Err(Error::BadInput(
+        Ok(()) if failed > 0 => Err(Error::BadInput(
             "writing an output file failed on rank 0".into(),
         )),
         Ok(()) => Ok(()),
@@ -132,6 +137,33 @@ fn plot_center(given: Option<&[f64]>, rows: &[ContactRow], d: usize) -> Vec<f64>
         .collect()
 }
 
+/// The Hertz pressure of `-reference hertz` at 401 points across the zoom
+/// (else across the candidates at `x`, sorted); empty without a reference.
+fn hertz_curve(
+    s: &Settings,
+    d: usize,
+    x: &[f64],
+    zoom: Option<&std::ops::Range<f64>>,
+) -> (Vec<f64>, Vec<f64>) {
+    let Some(r) = &s.reference else {
+        return (Vec::new(), Vec::new());
+    };
+    let (lo, hi) = match zoom {
+        Some(z) => (z.start, z.end),
+        None => (
+            x.first().copied().unwrap_or(0.0),
+            x.last().copied().unwrap_or(0.0),
+        ),
+    };
+    (0..=400)
+        .map(|k| {
+            let xi = lo + (hi - lo) * k as f64 / 400.0;
+            let p = hertz::pressure(d, r.force, r.radius, s.e_star(d), xi.abs()).0;
+            (xi, p)
+        })
+        .unzip()
+}
+
 /// `-plot_contact`: pressure, and with friction |lambda_t| and the bound s,
 /// along the surface (2D: a signed coordinate from the contact centre, so
 /// that both sides of an asymmetric contact show; 3D: the distance from
@@ -205,25 +237,7 @@ fn plot_contact(path: &str, m: &Results) -> Result<(), Error> {
             }
         });
     }
-    let (hx, hy): (Vec<f64>, Vec<f64>) = match &s.reference {
-        Some(r) => {
-            let (lo, hi) = match &zoom {
-                Some(z) => (z.start, z.end),
-                None => (
-                    x.first().copied().unwrap_or(0.0),
-                    x.last().copied().unwrap_or(0.0),
-                ),
-            };
-            (0..=400)
-                .map(|k| {
-                    let xi = lo + (hi - lo) * k as f64 / 400.0;
-                    let p = hertz::pressure(d, r.force, r.radius, s.e_star(d), xi.abs()).0;
-                    (xi, p)
-                })
-                .unzip()
-        }
-        None => (Vec::new(), Vec::new()),
-    };
+    let (hx, hy) = hertz_curve(s, d, &x, zoom.as_ref());
     if s.reference.is_some() {
         series.push(Series {
             label: "Hertz pressure",
@@ -418,7 +432,7 @@ fn cell_fields<'a>(p: &'a PieceData, ranks: &'a [i32]) -> Vec<Field<'a>> {
 }
 
 /// Every rank's `mine` concatenated in rank order on rank 0 (empty elsewhere).
-fn gather<C: Communicator, T: Equivalence + Clone>(world: &C, mine: &[T]) -> Vec<T> {
+pub(super) fn gather<C: Communicator, T: Equivalence + Clone>(world: &C, mine: &[T]) -> Vec<T> {
     if world.rank() != 0 {
         world.process_at_rank(0).send(mine);
         return Vec::new();

@@ -24,11 +24,9 @@ use std::io::Write as _;
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Number of f64 values per contact row on the wire.
-pub const ROW_LEN: usize = 17;
-
-/// One contact candidate, as written to the CSV.
-#[derive(Clone, Debug, Default)]
+/// One contact candidate, as written to the CSV (an MPI datatype of its
+/// own, to gather and broadcast the rows).
+#[derive(Clone, Debug, Default, Equivalence)]
 pub struct ContactRow {
     pub node: u64,
     pub x: [f64; 3],
@@ -50,34 +48,6 @@ pub struct ContactRow {
 impl ContactRow {
     pub fn status_name(&self) -> &'static str {
         ["open", "contact", "stick", "slip"][self.status as usize]
-    }
-    fn pack(&self, out: &mut Vec<f64>) {
-        out.push(self.node as f64);
-        out.extend_from_slice(&self.x);
-        out.push(self.weight);
-        out.push(self.gap);
-        out.push(self.un);
-        out.extend_from_slice(&self.ut);
-        out.push(self.lambda_n);
-        out.extend_from_slice(&self.lambda_t);
-        out.push(self.status as f64);
-        out.push(self.bound);
-        out.push(self.group as f64);
-    }
-    fn unpack(v: &[f64]) -> ContactRow {
-        ContactRow {
-            node: v[0] as u64,
-            x: [v[1], v[2], v[3]],
-            weight: v[4],
-            gap: v[5],
-            un: v[6],
-            ut: [v[7], v[8], v[9]],
-            lambda_n: v[10],
-            lambda_t: [v[11], v[12], v[13]],
-            status: v[14] as u8,
-            bound: v[15],
-            group: v[16] as usize,
-        }
     }
 }
 
@@ -267,39 +237,23 @@ pub fn mesh_label(source: &MeshSource) -> String {
 
 /// Gathers every rank's rows on rank 0, sorted by node tag (empty elsewhere).
 pub fn gather_rows<C: Communicator>(world: &C, rows: &[ContactRow]) -> Vec<ContactRow> {
-    let mut buf = Vec::with_capacity(rows.len() * ROW_LEN);
-    for r in rows {
-        r.pack(&mut buf);
-    }
-    let root = world.process_at_rank(0);
-    if world.rank() == 0 {
-        let mut all: Vec<ContactRow> = buf.chunks(ROW_LEN).map(ContactRow::unpack).collect();
-        for p in 1..world.size() {
-            let (v, _) = world.process_at_rank(p).receive_vec::<f64>();
-            all.extend(v.chunks(ROW_LEN).map(ContactRow::unpack));
-        }
-        all.sort_by_key(|r| r.node);
-        all
-    } else {
-        root.send(&buf[..]);
-        Vec::new()
-    }
+    let mut all = files::gather(world, rows);
+    all.sort_by_key(|r| r.node);
+    all
 }
 
 /// Sends rank 0's rows to every rank (for outputs every rank writes).
 pub fn broadcast_rows<C: Communicator>(world: &C, rows: &[ContactRow]) -> Vec<ContactRow> {
     let root = world.process_at_rank(0);
-    let mut buf = Vec::new();
-    if world.rank() == 0 {
-        for r in rows {
-            r.pack(&mut buf);
-        }
-    }
-    let mut len = [buf.len() as u64];
+    let mut len = [rows.len() as u64];
     root.broadcast_into(&mut len[..]);
-    buf.resize(len[0] as usize, 0.0);
-    root.broadcast_into(&mut buf[..]);
-    buf.chunks(ROW_LEN).map(ContactRow::unpack).collect()
+    let mut all = if world.rank() == 0 {
+        rows.to_vec()
+    } else {
+        vec![ContactRow::default(); len[0] as usize]
+    };
+    root.broadcast_into(&mut all[..]);
+    all
 }
 
 /// The Hertz comparison, computed on rank 0 from the gathered rows.
