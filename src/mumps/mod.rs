@@ -12,13 +12,15 @@
 //! holds) and does not resize until the pointer is set again, so each call
 //! of `dmumps_c` finds them valid for the sizes the structure states.
 
+// Generated code: no lint of ours applies (its Default impls, for one, are
+// blocks without comments).
 #[allow(
     non_camel_case_types,
     non_snake_case,
     non_upper_case_globals,
     dead_code,
     clippy::all,
-    clippy::undocumented_unsafe_blocks
+    clippy::restriction
 )]
 pub mod sys {
     include!(concat!(env!("OUT_DIR"), "/mumps_sys.rs"));

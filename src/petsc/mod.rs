@@ -40,6 +40,8 @@
 // with its comment.
 #![deny(unsafe_op_in_unsafe_fn)]
 
+// Generated code: no lint of ours applies (its Default impls, for one, are
+// blocks without comments).
 #[allow(
     non_camel_case_types,
     non_snake_case,
@@ -47,7 +49,7 @@
     dead_code,
     improper_ctypes,
     clippy::all,
-    clippy::undocumented_unsafe_blocks
+    clippy::restriction
 )]
 pub mod sys {
     include!(concat!(env!("OUT_DIR"), "/petsc_sys.rs"));
