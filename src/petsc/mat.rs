@@ -48,8 +48,9 @@ fn attach_arrays(mat: sys::Mat, arrays: Vec<Csr>) -> Result<(), Error> {
     // SAFETY: gives up our reference to the container made above, once: the
     // matrix holds its own now (on an error, the container and, once its
     // destroy is set, the arrays go; a failure before that leaks them).
-    unsafe { sys::PetscContainerDestroy(&mut c) };
-    r
+    let d = unsafe { sys::PetscContainerDestroy(&mut c) };
+    r?;
+    check(d)
 }
 
 /// Puts `p` (a leaked `Box<Vec<Csr>>`) in the live container `c`, with

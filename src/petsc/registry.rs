@@ -150,8 +150,10 @@ pub fn read_solver_options() -> Result<Vec<String>, String> {
     let used = read_into(copy, &all);
     // SAFETY: `copy` was made above and is destroyed once; nothing refers
     // to it any more (the solver that read it is destroyed in read_into).
-    unsafe { sys::PetscOptionsDestroy(&mut copy) };
-    used
+    let d = unsafe { sys::PetscOptionsDestroy(&mut copy) };
+    let used = used?;
+    check_text(d)?;
+    Ok(used)
 }
 
 /// [`read_solver_options`] on the live database `copy`, filled from the

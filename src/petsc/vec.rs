@@ -128,7 +128,8 @@ impl Vector {
 /// (e.g. the displacement at the ghost nodes of a rank's cells).
 ///
 /// Invariant: `scatter` is a live VecScatter of ours, from vectors laid out
-/// like the one given to [`Gather::new`] to `local`.
+/// like the one given to [`Gather::new`] to `local` (null only while the
+/// constructor fails, which `VecScatterDestroy` accepts).
 pub struct Gather {
     scatter: sys::VecScatter,
     pub local: Vector,
@@ -176,9 +177,12 @@ impl Gather {
         };
         // SAFETY: the index set made above, destroyed once (the scatter
         // keeps what it needs).
-        unsafe { sys::ISDestroy(&mut from) };
+        let d = unsafe { sys::ISDestroy(&mut from) };
+        // Owned (destroyed on an error below) whatever the codes.
+        let gather = Gather { scatter, local };
         check(r)?;
-        Ok(Gather { scatter, local })
+        check(d)?;
+        Ok(gather)
     }
 
     /// Copies the chosen entries of `x` into `self.local` (collective).
