@@ -4,27 +4,19 @@
 //! column-major array, which is how MUMPS returns a symmetric Schur
 //! complement (its lower triangle by rows, ICNTL(19) = 1): no copy to mirror
 //! it, no PETSc matrix around it.
+//!
+//! LAPACK's routines are `lapack-sys`'s declarations (Fortran's calling
+//! convention, as Debian's liblapack3 and OpenBLAS export them; the library
+//! itself is linked by `build.rs`, the one PETSc and MUMPS load). The two
+//! BLAS routines, which `lapack-sys` does not cover, are declared here.
+//! Every call passes arrays whose sizes are checked against the orders it
+//! states.
 
+use lapack_sys::{dpotrf_, dpotrs_};
 use std::os::raw::{c_char, c_int};
 
+// BLAS (Fortran interface: every argument by reference).
 extern "C" {
-    fn dpotrf_(
-        uplo: *const c_char,
-        n: *const c_int,
-        a: *mut f64,
-        lda: *const c_int,
-        info: *mut c_int,
-    );
-    fn dpotrs_(
-        uplo: *const c_char,
-        n: *const c_int,
-        nrhs: *const c_int,
-        a: *const f64,
-        lda: *const c_int,
-        b: *mut f64,
-        ldb: *const c_int,
-        info: *mut c_int,
-    );
     fn dtrsm_(
         side: *const c_char,
         uplo: *const c_char,
@@ -78,22 +70,23 @@ pub fn reserve_blas_workspace() -> Result<(), usize> {
         fn dlsym(handle: *mut std::ffi::c_void, name: *const c_char) -> *mut std::ffi::c_void;
     }
     // RTLD_DEFAULT (glibc: the null handle): is OpenBLAS in the process?
+    let name = c"openblas_get_config";
     // SAFETY: dlsym reads a NUL-terminated name and returns a pointer that
     // is only compared with null.
-    let openblas =
-        unsafe { !dlsym(std::ptr::null_mut(), c"openblas_get_config".as_ptr()).is_null() };
+    let openblas = !unsafe { dlsym(std::ptr::null_mut(), name.as_ptr()) }.is_null();
     if !openblas {
         return Ok(());
     }
     let layout = Layout::from_size_align(OPENBLAS_BUFFER, 4096).expect("a valid layout");
     // The system allocator itself: a null pointer is an answer here, not a
     // failure to report (the program's allocator ends the run on one).
-    // SAFETY: a layout of non-zero size; the block is freed at once, with
-    // the layout it was allocated with.
+    // SAFETY: a layout of non-zero size.
     let probe = unsafe { System.alloc(layout) };
     if probe.is_null() {
         return Err(OPENBLAS_BUFFER);
     }
+    // SAFETY: the block allocated just above, with the same layout, freed
+    // once.
     unsafe { System.dealloc(probe, layout) };
     let (one, alpha, a, mut b) = (1 as c_int, 1.0f64, 1.0f64, 1.0f64);
     let (left, notrans, nonunit) = (b'L' as c_char, b'N' as c_char, b'N' as c_char);
@@ -142,6 +135,8 @@ impl SpdFactor {
         assert_eq!(a.len(), n * n);
         if n > 0 {
             let (nn, mut info) = (n as c_int, 0 as c_int);
+            // SAFETY: `a` holds n x n entries (asserted), leading dimension
+            // n; the scalars are live values of the types LAPACK reads.
             unsafe { dpotrf_(&UPPER, &nn, a.as_mut_ptr(), &nn, &mut info) };
             if info != 0 {
                 return Err(info);
@@ -176,6 +171,9 @@ impl SpdFactor {
             return Ok(());
         }
         let (nn, one, mut info) = (self.n as c_int, 1 as c_int, 0 as c_int);
+        // SAFETY: the factor holds n x n entries (made so by `new`), x holds
+        // n (asserted), one column; the scalars are live values of the types
+        // LAPACK reads.
         unsafe {
             dpotrs_(
                 &UPPER,
@@ -202,6 +200,8 @@ pub fn sym_upper_mv(n: usize, a: &[f64], x: &[f64], y: &mut [f64]) {
         return;
     }
     let (nn, inc, one, zero) = (n as c_int, 1 as c_int, 1.0f64, 0.0f64);
+    // SAFETY: `a` holds n x n entries, x and y n each (asserted); the
+    // scalars are live values of the types BLAS reads.
     unsafe {
         dsymv_(
             &UPPER,

@@ -7,6 +7,11 @@
 //! out allocates: the line is formatted on the stack and written with one
 //! call.
 
+// SAFETY: (not a block) the lint below: in this module's functions whose
+// callers uphold a contract, each operation still needs its own block,
+// with its comment.
+#![deny(unsafe_op_in_unsafe_fn)]
+
 use super::{Error, EXIT_OUT_OF_MEMORY};
 use std::os::raw::{c_char, c_int, c_long};
 
@@ -68,28 +73,49 @@ static ALLOCATOR: OutOfMemory = OutOfMemory;
 // (its contract is theirs); a null result either ends the process or is
 // returned as the system allocator returns it.
 unsafe impl std::alloc::GlobalAlloc for OutOfMemory {
+    /// # Safety
+    /// [`std::alloc::GlobalAlloc::alloc`]'s: a layout of non-zero size.
+    // SAFETY: the trait's contract (above), passed on to the system's.
     unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
-        let p = std::alloc::System.alloc(layout);
+        // SAFETY: the caller's layout, under the same contract.
+        let p = unsafe { std::alloc::System.alloc(layout) };
         if p.is_null() && !may_fail() {
             out_of_memory(layout.size());
         }
         p
     }
 
+    /// # Safety
+    /// [`std::alloc::GlobalAlloc::alloc_zeroed`]'s: a layout of non-zero
+    /// size.
+    // SAFETY: the trait's contract (above), passed on to the system's.
     unsafe fn alloc_zeroed(&self, layout: std::alloc::Layout) -> *mut u8 {
-        let p = std::alloc::System.alloc_zeroed(layout);
+        // SAFETY: the caller's layout, under the same contract.
+        let p = unsafe { std::alloc::System.alloc_zeroed(layout) };
         if p.is_null() && !may_fail() {
             out_of_memory(layout.size());
         }
         p
     }
 
+    /// # Safety
+    /// [`std::alloc::GlobalAlloc::dealloc`]'s: a block of this allocator
+    /// (hence of the system's), with its layout.
+    // SAFETY: the trait's contract (above), passed on to the system's.
     unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
-        std::alloc::System.dealloc(ptr, layout)
+        // SAFETY: every block of ours is the system's (alloc, alloc_zeroed
+        // and realloc return its pointers), under the same contract.
+        unsafe { std::alloc::System.dealloc(ptr, layout) }
     }
 
+    /// # Safety
+    /// [`std::alloc::GlobalAlloc::realloc`]'s: a block of this allocator
+    /// with its layout, a valid non-zero new size.
+    // SAFETY: the trait's contract (above), passed on to the system's.
     unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, new_size: usize) -> *mut u8 {
-        let p = std::alloc::System.realloc(ptr, layout, new_size);
+        // SAFETY: a block of the system's (see dealloc), under the same
+        // contract.
+        let p = unsafe { std::alloc::System.realloc(ptr, layout, new_size) };
         if p.is_null() && !may_fail() {
             out_of_memory(new_size);
         }
@@ -116,29 +142,29 @@ impl std::fmt::Write for StackLine {
 /// otherwise).
 fn mpi_rank() -> (bool, c_int) {
     let (mut init, mut fin, mut rank) = (0, 0, -1);
+    // (A failed call counts as "not running" or "no rank": nothing else can
+    // be done on the way out.)
     // SAFETY: MPI_Initialized and MPI_Finalized may be called at any time;
-    // MPI_Comm_rank only between them. Each writes one int of ours.
-    unsafe {
-        mpi::ffi::MPI_Initialized(&mut init);
-        mpi::ffi::MPI_Finalized(&mut fin);
-        let live = init != 0 && fin == 0;
-        if live {
-            mpi::ffi::MPI_Comm_rank(mpi::ffi::RSMPI_COMM_WORLD, &mut rank);
-        }
-        (live, rank)
+    // each writes one int of ours.
+    let asked = unsafe { mpi::ffi::MPI_Initialized(&mut init) | mpi::ffi::MPI_Finalized(&mut fin) };
+    let live = asked == 0 && init != 0 && fin == 0;
+    // SAFETY: MPI runs (just asked); writes one int of ours.
+    if live && unsafe { mpi::ffi::MPI_Comm_rank(mpi::ffi::RSMPI_COMM_WORLD, &mut rank) } != 0 {
+        rank = -1;
     }
+    (live, rank)
 }
 
 /// Ends every rank with exit status 4: `MPI_Abort` while MPI runs (`live`),
 /// else this process alone.
 fn abort(live: bool) -> ! {
-    // SAFETY: MPI_Abort between MPI's start and end; _exit at any time.
-    unsafe {
-        if live {
-            mpi::ffi::MPI_Abort(mpi::ffi::RSMPI_COMM_WORLD, EXIT_OUT_OF_MEMORY);
-        }
-        _exit(EXIT_OUT_OF_MEMORY)
+    if live {
+        // SAFETY: MPI runs (`live`). It does not return; if it failed, this
+        // process ends alone below.
+        unsafe { mpi::ffi::MPI_Abort(mpi::ffi::RSMPI_COMM_WORLD, EXIT_OUT_OF_MEMORY) };
     }
+    // SAFETY: may be called at any time; ends the process at once.
+    unsafe { _exit(EXIT_OUT_OF_MEMORY) }
 }
 
 /// The end of a run that ran out of memory (see [`OutOfMemory`]).
@@ -179,17 +205,15 @@ fn address_space() -> Option<(u64, u64)> {
     // /proc/self/statm: the first field is the size of the address space
     // in pages.
     let mut buf = [0u8; 64];
-    // SAFETY: a NUL-terminated path; read writes at most buf.len() bytes
-    // into buf; the descriptor is closed once.
-    let n = unsafe {
-        let fd = open(c"/proc/self/statm".as_ptr(), 0);
-        if fd < 0 {
-            return None;
-        }
-        let n = read(fd, buf.as_mut_ptr(), buf.len());
-        close(fd);
-        n
-    };
+    // SAFETY: a NUL-terminated path, opened read-only (flags 0).
+    let fd = unsafe { open(c"/proc/self/statm".as_ptr(), 0) };
+    if fd < 0 {
+        return None;
+    }
+    // SAFETY: an open descriptor; writes at most buf.len() bytes into buf.
+    let n = unsafe { read(fd, buf.as_mut_ptr(), buf.len()) };
+    // SAFETY: the descriptor opened above, closed once.
+    unsafe { close(fd) };
     let digits = buf[..n.max(0) as usize]
         .iter()
         .take_while(|b| b.is_ascii_digit());
@@ -214,6 +238,8 @@ pub fn catch_crash_near_memory_limit() -> Result<(), Error> {
     /// PETSc's signal handler calls it with the signal and the context it
     /// was pushed with (null), which go to PETSc's default handler as they
     /// came.
+    // SAFETY: only PETSc's signal handler calls it, with the arguments of
+    // the contract above.
     unsafe extern "C" fn handler(sig: c_int, ctx: *mut c_void) -> sys::PetscErrorCode {
         const SIGBUS: c_int = 7;
         const SIGSEGV: c_int = 11;
@@ -224,18 +250,14 @@ pub fn catch_crash_near_memory_limit() -> Result<(), Error> {
                 }
             }
         }
-        sys::PetscSignalHandlerDefault(sig, ctx)
+        // SAFETY: the signal and context as PETSc gave them (the contract).
+        unsafe { sys::PetscSignalHandlerDefault(sig, ctx) }
     }
     if petsc::options::has_name("-no_signal_handler")? {
         return Ok(());
     }
     // SAFETY: a handler with PETSc's signature and no context.
-    unsafe {
-        petsc::check(sys::PetscPushSignalHandler(
-            Some(handler),
-            std::ptr::null_mut(),
-        ))
-    }
+    petsc::check(unsafe { sys::PetscPushSignalHandler(Some(handler), std::ptr::null_mut()) })
 }
 
 /// The end of a rank that crashed near its memory limit (see

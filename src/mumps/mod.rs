@@ -5,13 +5,22 @@
 //! [`Mumps`] owns one MUMPS instance (JOB = -1 on creation, -2 on drop) and
 //! the arrays it points into. Every call is checked: a negative INFOG(1)
 //! becomes an [`Error`] with MUMPS' code and its meaning.
+//!
+//! Soundness: MUMPS reads and writes the arrays that the instance's
+//! structure points to, during `dmumps_c` only. Every such pointer is set
+//! by a method here to an array that [`Mumps`] owns (or, during a solve,
+//! holds) and does not resize until the pointer is set again, so each call
+//! of `dmumps_c` finds them valid for the sizes the structure states.
 
+// Generated code: no lint of ours applies (its Default impls, for one, are
+// blocks without comments).
 #[allow(
     non_camel_case_types,
     non_snake_case,
     non_upper_case_globals,
     dead_code,
-    clippy::all
+    clippy::all,
+    clippy::restriction
 )]
 pub mod sys {
     include!(concat!(env!("OUT_DIR"), "/mumps_sys.rs"));
@@ -64,6 +73,9 @@ pub struct Mumps {
 impl Drop for Mumps {
     fn drop(&mut self) {
         self.id.job = -2;
+        // SAFETY: the instance made by JOB = -1 in `new` (MPI still runs:
+        // a Mumps lives inside main's scope of rsmpi's universe), ended
+        // once; JOB = -2 frees MUMPS' own data and reads none of ours.
         unsafe { sys::dmumps_c(&mut *self.id) };
     }
 }
@@ -73,11 +85,16 @@ impl Mumps {
     /// (`spd`, SYM = 1) or general symmetric (SYM = 2), the host working
     /// (PAR = 1), silent.
     pub fn new(comm: mpi::ffi::MPI_Comm, rank: i32, spd: bool) -> Result<Mumps, Error> {
-        let mut id: Box<sys::DMUMPS_STRUC_C> = Box::new(unsafe { std::mem::zeroed() });
+        // Every field zero (bindgen's Default): null pointers, no sizes.
+        let mut id: Box<sys::DMUMPS_STRUC_C> = Box::default();
         id.sym = if spd { 1 } else { 2 };
         id.par = 1;
         id.job = -1;
+        // SAFETY: `comm` is a live communicator (the caller's); returns its
+        // Fortran handle.
         id.comm_fortran = unsafe { mpi::ffi::MPI_Comm_c2f(comm) };
+        // SAFETY: a structure of ours, its pointers null; JOB = -1 reads
+        // SYM, PAR and COMM and sets the defaults.
         unsafe { sys::dmumps_c(&mut *id) };
         let mut m = Mumps {
             id,
@@ -290,6 +307,9 @@ impl Mumps {
 
     fn run(&mut self, job: i32, phase: &str) -> Result<(), Error> {
         self.id.job = job;
+        // SAFETY: the instance made in `new`; its pointers are null or into
+        // arrays of ours of the sizes stated beside them (the module's
+        // invariant).
         unsafe { sys::dmumps_c(&mut *self.id) };
         self.check(phase)
     }
@@ -308,6 +328,7 @@ impl Mumps {
         // needed 400%: MUMPS' estimate of a small root is poor).
         for _ in 0..6 {
             self.id.job = 2;
+            // SAFETY: as in `run`.
             unsafe { sys::dmumps_c(&mut *self.id) };
             let code = self.id.infog[0];
             if matches!(code, -8 | -9 | -14 | -15 | -11 | -12) {
@@ -361,6 +382,9 @@ impl Mumps {
         }
         let r = self.run(3, "solve");
         std::mem::swap(&mut self.rhs, rhs);
+        // The right-hand sides are the caller's again: no pointer to them
+        // is left behind.
+        self.id.rhs = std::ptr::null_mut();
         icntl!(self.id, 26) = 0;
         r
     }

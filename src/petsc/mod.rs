@@ -2,34 +2,160 @@
 //!
 //! Every `PetscErrorCode` goes through [`check`], which turns it into an
 //! [`Error::Petsc`] carrying PETSc's own message (captured by an error handler
-//! installed at start-up, so PETSc prints no traceback of its own).
+//! installed at start-up, so PETSc prints no traceback of its own); every
+//! MPI return code of ours goes through [`mpi_check`].
+//!
+//! # Soundness
+//!
+//! Each FFI call sits in its own block with a comment (`SAFETY`) naming what
+//! makes it sound. The invariants the wrappers keep:
+//!
+//! - A wrapper ([`Vector`], [`Matrix`], [`Ksp`], ...) owns one reference to
+//!   a PETSc object that PETSc made and that is not yet destroyed; its
+//!   `raw` handle is private to this module, so no other code can forge or
+//!   copy one. The wrappers hold raw pointers, hence are neither `Send` nor
+//!   `Sync`: moving one to another thread is a compile error, as PETSc (like
+//!   this program) runs each rank on one thread. So is [`Petsc`] itself.
+//! - PETSc runs from [`Petsc::init`] until its guard is dropped
+//!   (`PetscFinalize`). The wrappers are *not* tied to the guard by a
+//!   lifetime: that would put a lifetime parameter on every type that holds
+//!   a vector or a matrix (the solver's, the comparators', the reports'),
+//!   a change of every signature outside this module for a guard that lives
+//!   in `main` for the whole run. Instead the invariant is checked at run
+//!   time where it matters: every constructor returns an error when PETSc
+//!   is not running ([`running`]), [`Petsc::init`] refuses a second
+//!   initialization, and every destructor leaves its object alone once
+//!   PETSc has been finalized (the handle is not touched; the object's
+//!   memory goes with the process). A drop after `PetscFinalize` is thus
+//!   harmless instead of a call into a finalized library (measured: an
+//!   abort on `MPI_ERRORS_ARE_FATAL`), whatever the scope order in `main`;
+//!   see the ignored test `petsc::vec::tests::drop_after_finalize_is_harmless`.
+//! - What the type system does not check is stated on the functions: the
+//!   communicators passed in are live (`comm_world`, `comm_self` or rsmpi's
+//!   world), and the closures of [`Vector::read`], [`Vector::write`],
+//!   [`DenseColumns`] and [`Matrix::for_each_owned_row`] do not change the
+//!   same object through another of its methods (the methods that change
+//!   an object take `&self`, as PETSc's handles are shared).
 
+// SAFETY: (not a block) the lint below: in this module's functions whose
+// callers uphold a contract, each operation still needs its own block,
+// with its comment.
+#![deny(unsafe_op_in_unsafe_fn)]
+
+// Generated code: no lint of ours applies (its Default impls, for one, are
+// blocks without comments).
 #[allow(
     non_camel_case_types,
     non_snake_case,
     non_upper_case_globals,
     dead_code,
     improper_ctypes,
-    clippy::all
+    clippy::all,
+    clippy::restriction
 )]
 pub mod sys {
     include!(concat!(env!("OUT_DIR"), "/petsc_sys.rs"));
 }
 
+mod ksp;
 mod log;
-mod objects;
-pub use log::{Events, Stages};
-pub use objects::*;
+mod mat;
+mod nullspace;
+pub mod options;
+pub mod registry;
+mod vec;
+pub use ksp::{Ksp, Snes};
+pub use log::{EventGuard, Events, LogEvent, LogStage, StageGuard, Stages};
+pub use mat::{DenseColumns, MatStats, Matrix};
+pub use nullspace::NullSpace;
+pub use vec::{Gather, Vector};
 
 use crate::error::Error;
 use std::cell::RefCell;
 use std::ffi::{c_char, c_int, c_void, CStr, CString};
+use std::marker::PhantomData;
 
 thread_local! {
     /// PETSc's last error: its message and where it was raised.
     static LAST_ERROR: RefCell<Option<(String, String)>> = const { RefCell::new(None) };
 }
 
+/// An owned copy of a C string (invalid UTF-8 replaced), empty for null.
+///
+/// # Safety
+/// `ptr` is null or points to a NUL-terminated string valid for the call.
+// SAFETY: a contract on the caller (above); each call site says why its
+// pointer meets it.
+pub(crate) unsafe fn string_from(ptr: *const c_char) -> String {
+    if ptr.is_null() {
+        return String::new();
+    }
+    // SAFETY: not null, and NUL-terminated by the contract.
+    unsafe { CStr::from_ptr(ptr) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// The strings of a C array of `n` string pointers, null ones left out.
+///
+/// # Safety
+/// `array` is null or points to `n` pointers, each null or a
+/// NUL-terminated string, all valid for the call.
+// SAFETY: a contract on the caller (above); each call site says why its
+// array meets it.
+unsafe fn strings_from(array: *const *const c_char, n: usize) -> Vec<String> {
+    if array.is_null() || n == 0 {
+        return Vec::new();
+    }
+    // SAFETY: `array` points to `n` pointers (the contract).
+    let ptrs = unsafe { std::slice::from_raw_parts(array, n) };
+    let mut out = Vec::with_capacity(n);
+    for &p in ptrs.iter().filter(|p| !p.is_null()) {
+        // SAFETY: a NUL-terminated string (the contract).
+        out.push(unsafe { string_from(p) });
+    }
+    out
+}
+
+/// `n` entries at `ptr` as a slice (empty when `n` is 0, whatever `ptr`).
+///
+/// # Safety
+/// When `n > 0`, `ptr` points to `n` initialized values that stay valid and
+/// unchanged for `'a`.
+// SAFETY: a contract on the caller (above); each call site says why its
+// array meets it.
+unsafe fn slice_from<'a, T>(ptr: *const T, n: usize) -> &'a [T] {
+    if n == 0 {
+        return &[];
+    }
+    // SAFETY: n > 0 values at ptr, valid for 'a (the contract).
+    unsafe { std::slice::from_raw_parts(ptr, n) }
+}
+
+/// Like [`slice_from`], writable.
+///
+/// # Safety
+/// When `n > 0`, `ptr` points to `n` initialized values that nothing else
+/// reads or writes during `'a`.
+// SAFETY: a contract on the caller (above); each call site says why its
+// array meets it.
+unsafe fn slice_from_mut<'a, T>(ptr: *mut T, n: usize) -> &'a mut [T] {
+    if n == 0 {
+        return &mut [];
+    }
+    // SAFETY: n > 0 values at ptr, ours alone for 'a (the contract).
+    unsafe { std::slice::from_raw_parts_mut(ptr, n) }
+}
+
+/// PETSc's error handler (pushed by [`Petsc::init`]): keeps the message of
+/// an error where it is first raised, for [`check`] to return, and prints
+/// nothing.
+///
+/// # Safety
+/// `func`, `file` and `mess` are null or NUL-terminated strings valid for
+/// the call, as PETSc passes them to an error handler.
+// SAFETY: only PETSc calls it (as its error handler), with the arguments of
+// the contract above, on the thread of the call that failed.
 unsafe extern "C" fn record_error(
     _comm: sys::MPI_Comm,
     line: c_int,
@@ -40,22 +166,24 @@ unsafe extern "C" fn record_error(
     mess: *const c_char,
     _ctx: *mut c_void,
 ) -> sys::PetscErrorCode {
-    let s = |ptr: *const c_char| {
-        if ptr.is_null() {
-            String::new()
-        } else {
-            CStr::from_ptr(ptr).to_string_lossy().into_owned()
-        }
-    };
     if p == sys::PETSC_ERROR_INITIAL {
         // One line: PETSc's messages may hold several.
-        let mut text = s(mess).split_whitespace().collect::<Vec<_>>().join(" ");
+        // SAFETY: `mess` is null or a C string (the contract).
+        let mut text = unsafe { string_from(mess) }
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ");
         if text.is_empty() {
             let mut generic: *const c_char = std::ptr::null();
-            sys::PetscErrorMessage(n, &mut generic, std::ptr::null_mut());
-            text = s(generic);
+            // SAFETY: writes the address of PETSc's static text for code
+            // `n` (or leaves null); the second text is not asked for.
+            unsafe { sys::PetscErrorMessage(n, &mut generic, std::ptr::null_mut()) };
+            // SAFETY: null or one of PETSc's static C strings.
+            text = unsafe { string_from(generic) };
         }
-        let place = format!("PETSc error {n} in {}() at {}:{line}", s(func), s(file));
+        // SAFETY: `func` and `file` are null or C strings (the contract).
+        let (func, file) = unsafe { (string_from(func), string_from(file)) };
+        let place = format!("PETSc error {n} in {func}() at {file}:{line}");
         LAST_ERROR.with(|e| *e.borrow_mut() = Some((text, place)));
     }
     n
@@ -91,17 +219,84 @@ fn check_text(code: sys::PetscErrorCode) -> Result<(), String> {
     Err(take_error(code).0)
 }
 
-/// PETSc's lifetime. Created after MPI (rsmpi) and dropped before it:
-/// dropping calls `PetscFinalize`, which prints `-log_view`.
-pub struct Petsc {
-    _private: (),
+/// Turns the return code of an MPI call (`call`, its name) into a
+/// `Result`: anything but `MPI_SUCCESS` is an [`Error::Internal`] with
+/// MPI's own text for the code.
+pub fn mpi_check(code: c_int, call: &str) -> Result<(), Error> {
+    if code == 0 {
+        return Ok(());
+    }
+    // MPI_MAX_ERROR_STRING is 256 in Open MPI, 1024 in MPICH.
+    let mut buf = [0 as c_char; 1024];
+    let mut len: c_int = 0;
+    // SAFETY: MPI writes at most MPI_MAX_ERROR_STRING characters (NUL
+    // included) into buf, and their count into len; it may be called
+    // whatever the state of MPI.
+    let r = unsafe { mpi::ffi::MPI_Error_string(code, buf.as_mut_ptr(), &mut len) };
+    let text = if r == 0 {
+        let bytes: Vec<u8> = buf.iter().map(|&c| c as u8).collect();
+        CStr::from_bytes_until_nul(&bytes)
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    } else {
+        String::new()
+    };
+    Err(Error::Internal(format!(
+        "{call} failed: MPI error {code}{}{text}",
+        if text.is_empty() { "" } else { ": " }
+    )))
 }
+
+/// Whether PETSc is running: initialized and not yet finalized.
+pub fn running() -> bool {
+    let (mut init, mut fin) = (sys::PETSC_FALSE, sys::PETSC_FALSE);
+    // SAFETY: each writes one flag of PETSc's into a bool of ours; both may
+    // be called at any time, before PetscInitialize and after PetscFinalize
+    // included.
+    unsafe {
+        sys::PetscInitialized(&mut init);
+        sys::PetscFinalized(&mut fin);
+    }
+    init == sys::PETSC_TRUE && fin == sys::PETSC_FALSE
+}
+
+/// An error unless PETSc is running: every PETSc object's constructor asks
+/// (see the module's documentation).
+fn ensure_running() -> Result<(), Error> {
+    if running() {
+        return Ok(());
+    }
+    Err(Error::Internal(
+        "a PETSc object was asked for while PETSc is not running (before Petsc::init, or after its guard was dropped)".into(),
+    ))
+}
+
+/// PETSc's lifetime. Created after MPI (rsmpi) and dropped before it:
+/// dropping calls `PetscFinalize`, which prints `-log_view`. One per
+/// process ([`Petsc::init`] refuses a second), on one thread (neither
+/// `Send` nor `Sync`).
+pub struct Petsc {
+    _one_thread: PhantomData<*mut ()>,
+}
+
+/// PETSc's `-help` header.
+const HELP: &CStr =
+    c"ubr-petsc: Uzawa block relaxation for unilateral contact. Run with -help for the options.\n";
 
 impl Petsc {
     /// Initializes PETSc on `comm` with the process's arguments (program
     /// name first; the options files already expanded, see
     /// [`crate::options::files`]), so that `-help` and `-log_view` work.
     pub fn init(comm: sys::MPI_Comm, args: &[String]) -> Result<Petsc, Error> {
+        let mut called = sys::PETSC_FALSE;
+        // SAFETY: writes one flag of PETSc's into a bool of ours (callable
+        // at any time).
+        unsafe { sys::PetscInitialized(&mut called) };
+        if called == sys::PETSC_TRUE {
+            return Err(Error::Internal(
+                "PETSc is initialized already: one Petsc guard per process".into(),
+            ));
+        }
         let args: Vec<CString> = args
             .iter()
             .map(|a| CString::new(a.as_str()).unwrap_or_else(|_| CString::new("?").unwrap()))
@@ -111,436 +306,53 @@ impl Petsc {
         let mut argc = ptrs.len() as c_int;
         ptrs.push(std::ptr::null_mut());
         let mut argv = Box::leak(ptrs.into_boxed_slice()).as_mut_ptr();
-        unsafe {
-            sys::PETSC_COMM_WORLD = comm;
-            let code = sys::PetscInitialize(
-                &mut argc,
-                &mut argv,
-                std::ptr::null(),
-                c"ubr-petsc: Uzawa block relaxation for unilateral contact. Run with -help for the options.\n"
-                    .as_ptr(),
-            );
-            if code != 0 {
-                return Err(Error::Petsc {
-                    code,
-                    message: "PetscInitialize failed".into(),
-                });
-            }
-            check(sys::PetscPushErrorHandler(
-                Some(record_error),
-                std::ptr::null_mut(),
-            ))?;
+        // SAFETY: PETSc is not initialized (checked above), so nothing of
+        // PETSc reads its world communicator yet, and this rank runs on one
+        // thread (Petsc is not Send): no concurrent access to the static.
+        unsafe { sys::PETSC_COMM_WORLD = comm };
+        let (no_file, help) = (std::ptr::null(), HELP.as_ptr());
+        // SAFETY: argc and argv point to the count and to a leaked,
+        // null-ended array of argc NUL-terminated strings that live for the
+        // process (PETSc keeps them); HELP is a static C string; no options
+        // file (null).
+        let code = unsafe { sys::PetscInitialize(&mut argc, &mut argv, no_file, help) };
+        if code != 0 {
+            return Err(Error::Petsc {
+                code,
+                message: "PetscInitialize failed".into(),
+            });
         }
-        Ok(Petsc { _private: () })
+        // PETSc runs from here: the guard finalizes it whatever follows.
+        let petsc = Petsc {
+            _one_thread: PhantomData,
+        };
+        // SAFETY: record_error has the signature of a PETSc error handler
+        // and uses no context.
+        check(unsafe { sys::PetscPushErrorHandler(Some(record_error), std::ptr::null_mut()) })?;
+        Ok(petsc)
     }
 }
 
 impl Drop for Petsc {
     fn drop(&mut self) {
-        unsafe {
-            sys::PetscFinalize();
-        }
+        // SAFETY: the one guard (Petsc::init refuses a second) was made by
+        // a successful PetscInitialize, and is dropped once. Objects still
+        // alive after this leave PETSc alone (see the module's
+        // documentation). Its error code has nowhere to go from a drop.
+        unsafe { sys::PetscFinalize() };
     }
 }
 
 /// PETSc's self communicator.
 pub fn comm_self() -> sys::MPI_Comm {
+    // SAFETY: returns PETSc's constant PETSC_COMM_SELF (MPI_COMM_SELF);
+    // reads nothing else.
     unsafe { sys::ubr_comm_self() }
 }
 
 /// PETSc's world communicator (set from rsmpi's world at `Petsc::init`).
 pub fn comm_world() -> sys::MPI_Comm {
+    // SAFETY: a read of a handle that only Petsc::init writes, before PETSc
+    // runs, on this rank's one thread.
     unsafe { sys::PETSC_COMM_WORLD }
-}
-
-/// The options database, read as strings and parsed by the caller so that
-/// errors name the option.
-pub mod options {
-    use super::*;
-
-    fn cname(name: &str) -> CString {
-        CString::new(name).expect("option names have no NUL")
-    }
-
-    /// The raw string value of `-name`, `Some("")` when given without a value.
-    pub fn get_string(name: &str) -> Result<Option<String>, Error> {
-        let key = cname(name);
-        let mut buf = vec![0 as c_char; 4096];
-        let mut set = sys::PETSC_FALSE;
-        unsafe {
-            check(sys::PetscOptionsGetString(
-                std::ptr::null_mut(),
-                std::ptr::null(),
-                key.as_ptr(),
-                buf.as_mut_ptr(),
-                buf.len(),
-                &mut set,
-            ))?;
-        }
-        if set == sys::PETSC_FALSE {
-            return Ok(None);
-        }
-        let s = unsafe { CStr::from_ptr(buf.as_ptr()) };
-        Ok(Some(s.to_string_lossy().into_owned()))
-    }
-
-    pub fn has_name(name: &str) -> Result<bool, Error> {
-        let key = cname(name);
-        let mut set = sys::PETSC_FALSE;
-        unsafe {
-            check(sys::PetscOptionsHasName(
-                std::ptr::null_mut(),
-                std::ptr::null(),
-                key.as_ptr(),
-                &mut set,
-            ))?;
-        }
-        Ok(set == sys::PETSC_TRUE)
-    }
-
-    thread_local! {
-        /// The options the program set itself ([`set_default`]): not the
-        /// user's, so never reported as unused.
-        static SET_BY_PROGRAM: RefCell<Vec<String>> = const { RefCell::new(Vec::new()) };
-    }
-
-    /// Sets `-name value` unless the user already set `-name`.
-    pub fn set_default(name: &str, value: &str) -> Result<(), Error> {
-        if has_name(name)? {
-            return Ok(());
-        }
-        SET_BY_PROGRAM.with(|s| s.borrow_mut().push(name.to_string()));
-        let key = cname(name);
-        let val = cname(value);
-        unsafe {
-            check(sys::PetscOptionsSetValue(
-                std::ptr::null_mut(),
-                key.as_ptr(),
-                val.as_ptr(),
-            ))
-        }
-    }
-
-    /// The options of the database that nothing has read so far (names with
-    /// their leading `-`), leaving out those the program set itself.
-    pub fn unused() -> Result<Vec<String>, Error> {
-        let mut out = left_in(std::ptr::null_mut())?;
-        let ours = SET_BY_PROGRAM.with(|s| s.borrow().clone());
-        out.retain(|name| !ours.contains(name));
-        Ok(out)
-    }
-
-    /// The options of database `db` (null: the global one) that nothing
-    /// has read (names with their leading `-`).
-    pub(super) fn left_in(db: sys::PetscOptions) -> Result<Vec<String>, Error> {
-        let mut n: sys::PetscInt = 0;
-        let mut names: *mut *mut c_char = std::ptr::null_mut();
-        let mut values: *mut *mut c_char = std::ptr::null_mut();
-        unsafe {
-            check(sys::PetscOptionsLeftGet(
-                db,
-                &mut n,
-                &mut names,
-                &mut values,
-            ))?;
-        }
-        let mut out = Vec::with_capacity(n as usize);
-        for i in 0..n as usize {
-            let p = unsafe { *names.add(i) };
-            if !p.is_null() {
-                let name = unsafe { CStr::from_ptr(p).to_string_lossy().into_owned() };
-                out.push(format!("-{}", name.trim_start_matches('-')));
-            }
-        }
-        unsafe {
-            check(sys::PetscOptionsLeftRestore(
-                db,
-                &mut n,
-                &mut names,
-                &mut values,
-            ))?;
-        }
-        Ok(out)
-    }
-
-    /// Every option of the database with its value (None: given without
-    /// one), without marking any as used. (A value with a space reads as
-    /// its first word: PETSc's listing does not quote it.)
-    pub fn all_pairs() -> Result<Vec<(String, Option<String>)>, Error> {
-        let mut ptr: *mut c_char = std::ptr::null_mut();
-        unsafe {
-            check(sys::PetscOptionsGetAll(std::ptr::null_mut(), &mut ptr))?;
-        }
-        let all = unsafe { CStr::from_ptr(ptr).to_string_lossy().into_owned() };
-        unsafe {
-            sys::ubr_free(ptr as *mut c_void);
-        }
-        let words: Vec<&str> = all.split_whitespace().collect();
-        let mut out: Vec<(String, Option<String>)> = Vec::new();
-        for w in words {
-            if crate::options::files::is_key(w) {
-                out.push((w.to_string(), None));
-            } else if let Some((_, v @ None)) = out.last_mut() {
-                *v = Some(w.to_string());
-            }
-        }
-        Ok(out)
-    }
-
-    /// The names of every option in the database (with their leading `-`).
-    pub fn all_names() -> Result<Vec<String>, Error> {
-        let mut ptr: *mut c_char = std::ptr::null_mut();
-        unsafe {
-            check(sys::PetscOptionsGetAll(std::ptr::null_mut(), &mut ptr))?;
-        }
-        let all = unsafe { CStr::from_ptr(ptr).to_string_lossy().into_owned() };
-        unsafe {
-            sys::ubr_free(ptr as *mut c_void);
-        }
-        Ok(all
-            .split_whitespace()
-            .filter(|t| t.starts_with('-') && t.len() > 1 && t.parse::<f64>().is_err())
-            .map(|t| t.to_string())
-            .collect())
-    }
-}
-
-/// PETSc's registries of linear solvers, asked before any work so that a
-/// wrong name in the options is bad input (`options::solver`), not an error
-/// in the middle of the set-up.
-pub mod registry {
-    use super::*;
-
-    /// How a factorization is asked for (`-pc_type lu|cholesky|ilu|icc`).
-    #[derive(Clone, Copy, Debug, PartialEq)]
-    pub enum Factor {
-        Lu,
-        Cholesky,
-        Ilu,
-        Icc,
-    }
-
-    impl Factor {
-        fn raw(self) -> sys::MatFactorType {
-            match self {
-                Factor::Lu => sys::MAT_FACTOR_LU,
-                Factor::Cholesky => sys::MAT_FACTOR_CHOLESKY,
-                Factor::Ilu => sys::MAT_FACTOR_ILU,
-                Factor::Icc => sys::MAT_FACTOR_ICC,
-            }
-        }
-    }
-
-    /// The solver packages PETSc 3.18 knows by name (`MATSOLVER*` of petscmat.h).
-    const PACKAGES: &[&str] = &[
-        "mumps",
-        "superlu",
-        "superlu_dist",
-        "strumpack",
-        "umfpack",
-        "cholmod",
-        "klu",
-        "spqr",
-        "mkl_pardiso",
-        "mkl_cpardiso",
-        "pastix",
-        "petsc",
-        "elemental",
-        "sparseelemental",
-        "scalapack",
-        "essl",
-        "lusol",
-        "matlab",
-        "bas",
-        "cusparse",
-        "cusparseband",
-        "cuda",
-        "hipsparse",
-        "hipsparseband",
-        "hip",
-        "kokkos",
-        "kokkosdevice",
-    ];
-
-    fn names(list: sys::PetscFunctionList) -> Result<Vec<String>, Error> {
-        let mut array: *mut *const c_char = std::ptr::null_mut();
-        let mut n: c_int = 0;
-        let mut out = Vec::new();
-        unsafe {
-            check(sys::PetscFunctionListGet(list, &mut array, &mut n))?;
-            for i in 0..n.max(0) as usize {
-                let p = *array.add(i);
-                if !p.is_null() {
-                    out.push(CStr::from_ptr(p).to_string_lossy().into_owned());
-                }
-            }
-            sys::ubr_free(array as *mut c_void);
-        }
-        out.sort();
-        out.dedup();
-        Ok(out)
-    }
-
-    /// The Krylov methods of this PETSc (`-ksp_type`).
-    pub fn ksp_types() -> Result<Vec<String>, Error> {
-        unsafe {
-            check(sys::KSPInitializePackage())?;
-            names(sys::KSPList)
-        }
-    }
-
-    /// The preconditioners of this PETSc (`-pc_type`).
-    pub fn pc_types() -> Result<Vec<String>, Error> {
-        unsafe {
-            check(sys::PCInitializePackage())?;
-            names(sys::PCList)
-        }
-    }
-
-    /// Whether `package` (None: any) is a solver package of this PETSc
-    /// (None if not) that factorizes a matrix of type `mat_type`
-    /// (`seqaij`, `mpiaij`) as `factor`.
-    pub fn factorizes(
-        package: Option<&str>,
-        mat_type: &str,
-        factor: Factor,
-    ) -> Result<Option<bool>, Error> {
-        let pkg = package.map(|p| CString::new(p).unwrap_or_default());
-        let mt = CString::new(mat_type).expect("no NUL");
-        let (mut found, mut found_mat) = (sys::PETSC_FALSE, sys::PETSC_FALSE);
-        let mut create: sys::MatSolverFunction = None;
-        unsafe {
-            check(sys::MatInitializePackage())?;
-            check(sys::MatSolverTypeGet(
-                pkg.as_ref().map_or(std::ptr::null(), |p| p.as_ptr()),
-                mt.as_ptr(),
-                factor.raw(),
-                &mut found,
-                &mut found_mat,
-                &mut create,
-            ))?;
-        }
-        if package.is_some() && found == sys::PETSC_FALSE {
-            return Ok(None);
-        }
-        Ok(Some(create.is_some()))
-    }
-
-    /// The packages of this PETSc that factorize `mat_type` as `factor`.
-    pub fn packages_for(mat_type: &str, factor: Factor) -> Result<Vec<&'static str>, Error> {
-        let mut out = Vec::new();
-        for p in PACKAGES {
-            if factorizes(Some(p), mat_type, factor)? == Some(true) {
-                out.push(*p);
-            }
-        }
-        Ok(out)
-    }
-
-    /// Reads the linear solver's options (`-ksp_*`, `-pc_*`) into a solver
-    /// of this rank alone, as the run's solver will: no communication, so
-    /// every rank ends alike. It reads a copy of the options database, so
-    /// that an option only it read is still reported as unused at the end.
-    /// Returns the options it read; `Err`: PETSc's message.
-    pub fn read_solver_options() -> Result<Vec<String>, String> {
-        let all = unsafe {
-            let mut ptr: *mut c_char = std::ptr::null_mut();
-            check_text(sys::PetscOptionsGetAll(std::ptr::null_mut(), &mut ptr))?;
-            let all = CStr::from_ptr(ptr).to_owned();
-            sys::ubr_free(ptr as *mut c_void);
-            all
-        };
-        unsafe {
-            let mut copy: sys::PetscOptions = std::ptr::null_mut();
-            check_text(sys::PetscOptionsCreate(&mut copy))?;
-            let mut ksp: sys::KSP = std::ptr::null_mut();
-            if sys::PetscOptionsInsertString(copy, all.as_ptr()) != 0 {
-                // Not a copy to judge by (PETSc's listing does not quote
-                // values): the run's solver will read the options itself.
-                take_error(0);
-                sys::PetscOptionsDestroy(&mut copy);
-                return Ok(Vec::new());
-            }
-            let read = check_text(sys::KSPCreate(comm_self(), &mut ksp))
-                .and_then(|()| {
-                    check_text(sys::PetscObjectSetOptions(ksp as sys::PetscObject, copy))
-                })
-                .and_then(|()| check_text(sys::KSPSetFromOptions(ksp)));
-            if !ksp.is_null() {
-                sys::KSPDestroy(&mut ksp);
-            }
-            let used = read.and_then(|()| {
-                let left = options::left_in(copy).map_err(|e| e.to_string())?;
-                let names = all.to_string_lossy();
-                let mut used: Vec<String> = names
-                    .split_whitespace()
-                    .filter(|w| crate::options::files::is_key(w))
-                    .filter(|w| !left.iter().any(|l| l == w))
-                    .map(String::from)
-                    .collect();
-                used.dedup();
-                Ok(used)
-            });
-            sys::PetscOptionsDestroy(&mut copy);
-            used
-        }
-    }
-}
-
-/// A `-log_view` stage. `push` returns a guard that pops it.
-#[derive(Clone, Copy)]
-pub struct LogStage(sys::PetscLogStage);
-
-impl LogStage {
-    pub fn register(name: &str) -> Result<LogStage, Error> {
-        let n = CString::new(name).unwrap();
-        let mut s: sys::PetscLogStage = 0;
-        unsafe { check(sys::PetscLogStageRegister(n.as_ptr(), &mut s))? };
-        Ok(LogStage(s))
-    }
-    pub fn push(self) -> Result<StageGuard, Error> {
-        unsafe { check(sys::PetscLogStagePush(self.0))? };
-        Ok(StageGuard)
-    }
-}
-
-pub struct StageGuard;
-impl Drop for StageGuard {
-    fn drop(&mut self) {
-        unsafe {
-            sys::PetscLogStagePop();
-        }
-    }
-}
-
-/// A `-log_view` event.
-#[derive(Clone, Copy)]
-pub struct LogEvent(sys::PetscLogEvent);
-
-impl LogEvent {
-    pub fn register(name: &str) -> Result<LogEvent, Error> {
-        let n = CString::new(name).unwrap();
-        let mut classid: sys::PetscClassId = 0;
-        let mut e: sys::PetscLogEvent = 0;
-        unsafe {
-            check(sys::PetscClassIdRegister(c"UBR".as_ptr(), &mut classid))?;
-            check(sys::PetscLogEventRegister(n.as_ptr(), classid, &mut e))?;
-        }
-        Ok(LogEvent(e))
-    }
-    pub fn begin(self) -> EventGuard {
-        unsafe {
-            sys::ubr_log_event_begin(self.0);
-        }
-        EventGuard(self.0)
-    }
-}
-
-pub struct EventGuard(sys::PetscLogEvent);
-impl Drop for EventGuard {
-    fn drop(&mut self) {
-        unsafe {
-            sys::ubr_log_event_end(self.0);
-        }
-    }
 }

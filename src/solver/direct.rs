@@ -186,6 +186,9 @@ fn host_order(
     if n > 0 {
         let mut nvtxs = n as i32;
         let mut options = [0i32; metis_sys::METIS_NOPTIONS as usize];
+        // SAFETY: the arrays are valid for the sizes METIS reads (n + 1 row
+        // pointers, xadj[n] neighbours, n entries of perm and iperm,
+        // METIS_NOPTIONS options), and METIS keeps no pointer after the call.
         unsafe {
             metis_sys::METIS_SetDefaultOptions(options.as_mut_ptr());
             let r = metis_sys::METIS_NodeND(
