@@ -62,9 +62,9 @@ fn direct_solves_equal_petsc_ksp() {
             1,
             &scene(&["-ubr_mumps_direct", "0", "-ubr_condense_max", "0"]),
         );
-        assert!(rk["linear_solver"]
+        assert!(rk
+            .linear_solver
             .as_str()
-            .unwrap()
             .contains("preonly + cholesky (mumps)"));
         // One rank: 3D orders by METIS; this 2D scene is small enough for
         // AMD, and takes METIS when asked for. Several ranks: every rank
@@ -90,7 +90,7 @@ fn direct_solves_equal_petsc_ksp() {
             );
             let ordering = format!("MUMPS Cholesky, called directly ({ordering}");
             assert!(run.stdout.contains(&ordering), "{}", run.stdout);
-            assert_eq!(rd["iterations"], rk["iterations"], "{name} -n {ranks}");
+            assert_eq!(rd.iterations, rk.iterations, "{name} -n {ranks}");
             let g = max_pressure_gap(&dm, &k);
             assert!(
                 g <= 1e-10,
@@ -122,25 +122,21 @@ fn condensed_iterates_equal_full_ones() {
         ("defaults", vec!["-options_file", "options/hertz"]),
         ("block", block_plain(&["-ubr_condense_max", "1000"])),
     ] {
-        let mut reference: Option<(serde_json::Value, Vec<Row>)> = None;
+        let mut reference: Option<(Report, Vec<Row>)> = None;
         for ranks in [1, 2, 3] {
             let (run, rc, c) = solve_rows(&format!("{name}-cond-{ranks}"), ranks, &args);
-            assert!(
-                num(&rc, "condensed_unknowns") > 0.0,
-                "{name}: {}",
-                run.stdout
-            );
+            assert!(rc.condensed_unknowns > 0.0, "{name}: {}", run.stdout);
             if reference.is_none() {
-                let r = format!("{:e}", num(&rc, "r"));
+                let r = format!("{:e}", rc.r);
                 let mut full = args.clone();
                 full.extend_from_slice(&["-ubr_condense_max", "0", "-ubr_r", &r]);
                 let (_, rf, f) = solve_rows(&format!("{name}-full"), 1, &full);
-                assert_eq!(num(&rf, "condensed_unknowns"), 0.0);
-                assert_eq!(num(&rf, "r"), num(&rc, "r"));
+                assert_eq!(rf.condensed_unknowns, 0.0);
+                assert_eq!(rf.r, rc.r);
                 reference = Some((rf, f));
             }
             let (rf, f) = reference.as_ref().unwrap();
-            assert_eq!(rc["iterations"], rf["iterations"], "{name} -n {ranks}");
+            assert_eq!(rc.iterations, rf.iterations, "{name} -n {ranks}");
             let g = max_pressure_gap(&c, f);
             assert!(
                 g <= 1e-9,
@@ -287,8 +283,8 @@ fn refactorization_of_the_trimmed_input() {
             "{}",
             run.stdout
         );
-        assert_eq!(rd["iterations"], rk["iterations"], "-n {ranks}");
-        let (r_d, r_k) = (num(&rd, "r"), num(&rk, "r"));
+        assert_eq!(rd.iterations, rk.iterations, "-n {ranks}");
+        let (r_d, r_k) = (rd.r, rk.r);
         assert!(
             (r_d - r_k).abs() <= 1e-8 * r_k,
             "-n {ranks}: r {r_d} against {r_k}"
@@ -431,7 +427,7 @@ fn rank_counts_agree_with_the_parallel_ordering() {
             } else {
                 "rcb"
             };
-            assert_eq!(rep["partition"].as_str(), Some(want), "{tag}");
+            assert_eq!(Some(rep.partition.as_str()), Some(want), "{tag}");
             let words = if want == "metis" {
                 "by METIS k-way"
             } else {

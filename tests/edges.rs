@@ -151,7 +151,7 @@ fn resting(dim: usize, coulomb: bool) {
             let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
             let tag = format!("{name}_{rel:e}_n{ranks}");
             let (run, rep, rows) = solve_rows(&tag, ranks, &a);
-            let force = num(&rep, "contact_force");
+            let force = rep.contact_force;
             assert!(
                 (force - weight).abs() <= 1e-6 * weight,
                 "{tag}: contact force {force} against the weight {weight}\n{}",
@@ -435,7 +435,7 @@ fn tresca_default_bound_keeps_the_promise() {
     let mut tight = beam_args(&msh);
     tight.extend_from_slice(&["-ubr_lambda_rtol", "1e-9"]);
     let (_, _, reference) = solve_rows("tresca_promise_ref", 1, &tight);
-    let estimate = num(&rep, "lambda_error_estimate");
+    let estimate = rep.lambda_error_estimate;
     let en = max_pressure_gap(&rows, &reference);
     let et = tangential_gap(&rows, &reference);
     assert!(

@@ -141,21 +141,19 @@ fn friction_holds_the_same_bodies() {
         ),
     ] {
         let (run, rep, rows) = solve_rows(name, ranks, &args);
-        assert_eq!(rep["converged"], true, "{name}: {}", run.stdout);
+        assert!(rep.converged, "{name}: {}", run.stdout);
         let load = if name.starts_with("hertz") {
             800.0
         } else {
             2e4
         };
-        let force = num(&rep, "contact_force");
+        let force = rep.contact_force;
         assert!(
             (force - load).abs() < 1e-6 * load,
             "{name}: contact force {force} for the load {load}"
         );
         // No tangential load: no net friction force.
-        let tf = rep["tangential_force"].as_array().unwrap();
-        for t in tf {
-            let t = t.as_f64().unwrap();
+        for &t in &rep.tangential_force {
             assert!(t.abs() <= 1e-6 * load, "{name}: tangential force {t}");
         }
         assert!(!rows.is_empty());
@@ -176,16 +174,15 @@ fn friction_holds_a_body_under_a_tangential_load() {
         .map(|&a| if a == "0,-100" { "10,-100" } else { a })
         .collect();
     let (run, rep, _) = solve_rows("hertz tangential load, Coulomb", 2, &args);
-    assert_eq!(rep["converged"], true, "{}", run.stdout);
-    let tf = rep["tangential_force"].as_array().unwrap();
-    let tx = tf[0].as_f64().unwrap();
+    assert!(rep.converged, "{}", run.stdout);
+    let tx = rep.tangential_force[0];
     // The friction force on the obstacle: the tangential load.
     assert!(
         (tx - 80.0).abs() <= 1e-6 * 800.0,
         "tangential force {tx}: {}",
         run.stdout
     );
-    assert!((num(&rep, "contact_force") - 800.0).abs() <= 1e-6 * 800.0);
+    assert!((rep.contact_force - 800.0).abs() <= 1e-6 * 800.0);
 }
 
 /// Two disconnected parts, one clamped, the other resting on the obstacle
@@ -236,7 +233,7 @@ $Elements\n7\n1 1 2 1 1 1 2\n2 1 2 2 2 5 6\n3 1 2 3 3 7 8\n4 2 2 4 4 1 2 3\n5 2 
     let mut held = args.to_vec();
     held.extend_from_slice(&["-dirichlet_top", "ux=0"]);
     let (run, rep, _) = solve_rows("two parts held", 2, &held);
-    assert_eq!(rep["converged"], true, "{}", run.stdout);
+    assert!(rep.converged, "{}", run.stdout);
 }
 
 /// A body held along n by contact alone and pulled away from the obstacle
