@@ -104,7 +104,7 @@ fn mumps_and_gamg_cg_agree() {
         ),
     );
     assert!(run.stdout.contains("cg + gamg"), "{}", run.stdout);
-    let inner: Vec<f64> = r.inner_iterations.iter().copied().collect();
+    let inner = r.inner_iterations.clone();
     assert!(
         inner.iter().sum::<f64>() >= inner.len() as f64,
         "CG iterations {inner:?}"

@@ -61,22 +61,7 @@ fn block_on_ball<'a>(extra: &[&'a str]) -> Vec<&'a str> {
 
 fn expect_free(name: &str, ranks: usize, args: &[&str], words: &[&str]) {
     let run = mpirun(ranks, args);
-    assert_eq!(
-        run.status,
-        Some(2),
-        "{name} on {ranks} ranks: stdout:\n{}\nstderr:\n{}",
-        run.stdout,
-        run.stderr
-    );
-    let lines: Vec<&str> = run
-        .stderr
-        .lines()
-        .filter(|l| l.starts_with("error:"))
-        .collect();
-    assert_eq!(lines.len(), 1, "{name}: one message, once:\n{}", run.stderr);
-    for w in words {
-        assert!(lines[0].contains(w), "{name}: '{w}' not in: {}", lines[0]);
-    }
+    run.refused(&format!("{name} on {ranks} ranks"), 2, words);
     assert!(
         !run.stdout.contains("iterations"),
         "{name}: decided before any iteration:\n{}",

@@ -87,6 +87,23 @@ impl Run {
             .filter(|l| l.starts_with("error:"))
             .collect()
     }
+
+    /// A refused run (docs/DESIGN.md, "Exit status"): exit `status`, one
+    /// `error:` line (printed once, whatever the rank count) carrying every
+    /// one of `needles` (the option, file or reason). Returns the line.
+    pub fn refused(&self, what: &str, status: i32, needles: &[&str]) -> &str {
+        assert_eq!(self.status, Some(status), "{what}: {}", self.context());
+        let lines = self.error_lines();
+        assert_eq!(lines.len(), 1, "{what}: one error line: {}", self.context());
+        for needle in needles {
+            assert!(
+                lines[0].contains(needle),
+                "{what}: '{}' does not name '{needle}'",
+                lines[0]
+            );
+        }
+        lines[0]
+    }
 }
 
 /// An Open MPI session directory of one run, removed when dropped.
