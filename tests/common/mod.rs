@@ -23,10 +23,29 @@ pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The Python that reads VTK and meshio files: `UBR_PYTHON`, else `python3`
-/// from PATH.
+/// The Python that reads VTK and meshio files: `UBR_PYTHON`, else the
+/// first of `python3` from PATH and Debian's `/usr/bin/python3` that
+/// imports both (a pyenv `python3` ahead on PATH often lacks them).
 pub fn python() -> String {
-    std::env::var("UBR_PYTHON").unwrap_or_else(|_| "python3".into())
+    static PYTHON: OnceLock<String> = OnceLock::new();
+    PYTHON
+        .get_or_init(|| {
+            if let Ok(p) = std::env::var("UBR_PYTHON") {
+                return p;
+            }
+            let imports = |p: &str| {
+                Command::new(p)
+                    .args(["-c", "import vtk, meshio"])
+                    .output()
+                    .is_ok_and(|o| o.status.success())
+            };
+            ["python3", "/usr/bin/python3"]
+                .into_iter()
+                .find(|p| imports(p))
+                .unwrap_or("python3")
+                .to_string()
+        })
+        .clone()
 }
 
 /// A fresh scratch directory for one test.
