@@ -4,19 +4,6 @@
 //! the iteration cap stops the run, and off where it does not apply.
 mod common;
 use common::*;
-use std::collections::HashMap;
-
-/// Max |a - b| over the contact nodes of one field, relative to max |b|
-/// (absolute where b vanishes, e.g. the tangential stress without friction).
-fn gap(a: &[Row], b: &[Row], field: impl Fn(&Row) -> f64) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let bm: HashMap<u64, f64> = b.iter().map(|r| (r.node, field(r))).collect();
-    let peak = b.iter().map(|r| field(r).abs()).fold(0.0, f64::max);
-    a.iter()
-        .map(|r| (field(r) - bm[&r.node]).abs())
-        .fold(0.0, f64::max)
-        / if peak > 0.0 { peak } else { 1.0 }
-}
 
 /// Runs `args` on one rank condensed (the default) and with
 /// `-ubr_condense_max 0`; both must take the same iterations and reach the
@@ -50,11 +37,11 @@ fn same_as_full(name: &str, args: &[&str], unknowns: f64, tol: f64) -> Report {
         (fc - ff).abs() <= tol * ff.abs(),
         "{name}: force {fc} vs {ff}"
     );
-    let g = gap(&crows, &frows, |r| r.lambda_n);
+    let g = field_gap(&crows, &frows, |r| r.lambda_n);
     assert!(g <= tol, "{name}: pressures differ by {g:.3e}");
-    let g = gap(&crows, &frows, |r| r.un);
+    let g = field_gap(&crows, &frows, |r| r.un);
     assert!(g <= tol, "{name}: u_n differ by {g:.3e}");
-    let g = gap(&crows, &frows, |r| r.lambda_t[0].hypot(r.lambda_t[1]));
+    let g = field_gap(&crows, &frows, |r| r.lambda_t[0].hypot(r.lambda_t[1]));
     assert!(g <= tol, "{name}: tangential stresses differ by {g:.3e}");
     for r in &crows {
         let s = frows.iter().find(|s| s.node == r.node).unwrap();
@@ -117,7 +104,7 @@ fn stopped_by_the_cap() {
             );
             out.push(contact_rows(&csv));
         }
-        let g = gap(&out[0], &out[1], |r| r.lambda_n);
+        let g = field_gap(&out[0], &out[1], |r| r.lambda_n);
         assert!(g <= 1e-9, "cap {cap}: pressures differ by {g:.3e}");
         let _ = std::fs::remove_dir_all(&dir);
     }

@@ -551,6 +551,27 @@ pub fn max_stress_gap(a: &[Row], b: &[Row]) -> f64 {
         / peak
 }
 
+/// max |lambda_t(a) - lambda_t(b)| / max |lambda_t(b)|, rows matched by
+/// node (0 where both are frictionless).
+pub fn max_tangential_gap(a: &[Row], b: &[Row]) -> f64 {
+    let bm: HashMap<u64, &Row> = b.iter().map(|r| (r.node, r)).collect();
+    assert_eq!(a.len(), b.len(), "not the same candidates");
+    let peak = b.iter().map(|r| norm(&r.lambda_t)).fold(0.0, f64::max);
+    let worst = a
+        .iter()
+        .map(|x| {
+            let y = bm[&x.node];
+            let d: Vec<f64> = (0..3).map(|k| x.lambda_t[k] - y.lambda_t[k]).collect();
+            norm(&d)
+        })
+        .fold(0.0, f64::max);
+    if worst == 0.0 {
+        0.0
+    } else {
+        worst / peak
+    }
+}
+
 // ----- the optimality conditions, from the CSV alone -----
 
 /// The scales of the optimality conditions: stresses relative to `s`,
