@@ -2,6 +2,7 @@
 # ubr-petsc set-up and main job.
 #   ./run.sh            install what is missing, build, run the paper's Hertz scene on 2 ranks
 #   ./run.sh test       install what is missing, build, run the whole test suite
+#   ./run.sh test quick the suite without the tests marked #[ignore = "slow"]
 #   ./run.sh build      install and build only
 # Works as root or as a user with sudo, on Debian 12.
 set -euo pipefail
@@ -76,13 +77,18 @@ case "${1:-run}" in
     # The tests run 3 and 4 ranks on 2 cores too.
     export OMPI_MCA_rmaps_base_oversubscribe=1
     # Tests start mpirun themselves; two test binaries at a time on 2 cores.
-    exec cargo test --release --locked -- --test-threads=2 "${@:2}"
+    # The slow tests (the paper's tables on all five meshes, ...) are
+    # #[ignore = "slow"]: included here, left out by `./run.sh test quick`.
+    if [ "${2:-}" = quick ]; then
+      exec cargo test --release --locked -- --test-threads=2 "${@:3}"
+    fi
+    exec cargo test --release --locked -- --test-threads=2 --include-ignored "${@:2}"
     ;;
   build)
     build
     ;;
   *)
-    echo "usage: ./run.sh [run|test|build] [extra options]" >&2
+    echo "usage: ./run.sh [run|test [quick]|build] [extra options]" >&2
     exit 2
     ;;
 esac

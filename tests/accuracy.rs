@@ -22,7 +22,7 @@
 //! `UBR_ACCURACY_BIN=/path/to/ubr-petsc` runs the scenes with another binary
 //! (e.g. an older build, for a before/after comparison).
 mod common;
-use common::{mpi_command, root};
+use common::{mpi_command, parse_rows, root, Row};
 use serde_json::Value;
 use std::collections::hash_map::DefaultHasher;
 use std::collections::HashMap;
@@ -179,44 +179,6 @@ fn binary() -> String {
     std::env::var("UBR_ACCURACY_BIN").unwrap_or_else(|_| common::BIN.to_string())
 }
 
-/// One contact CSV row, every column.
-#[derive(Clone, Debug)]
-struct Row {
-    node: u64,
-    weight: f64,
-    gap: f64,
-    un: f64,
-    ut: [f64; 3],
-    lambda_n: f64,
-    lambda_t: [f64; 3],
-    status: String,
-}
-
-fn parse_csv(text: &str) -> Vec<Row> {
-    let mut lines = text.lines();
-    assert_eq!(
-        lines.next(),
-        Some("node,x,y,z,weight,gap,un,ut_x,ut_y,ut_z,lambda_n,lambda_t_x,lambda_t_y,lambda_t_z,status")
-    );
-    lines
-        .map(|l| {
-            let f: Vec<&str> = l.split(',').collect();
-            assert_eq!(f.len(), 15, "{l}");
-            let v = |i: usize| -> f64 { f[i].parse().unwrap_or_else(|_| panic!("{l}")) };
-            Row {
-                node: f[0].parse().unwrap(),
-                weight: v(4),
-                gap: v(5),
-                un: v(6),
-                ut: [v(7), v(8), v(9)],
-                lambda_n: v(10),
-                lambda_t: [v(11), v(12), v(13)],
-                status: f[14].to_string(),
-            }
-        })
-        .collect()
-}
-
 /// A finished run: exit status, report, contact rows, output.
 struct Solution {
     status: Option<i32>,
@@ -356,7 +318,7 @@ fn run(name: &'static str, ranks: usize, extra: &[&str]) -> Solution {
         );
     };
     let report: Value = serde_json::from_str(&rep_text).unwrap();
-    let rows = parse_csv(&csv_text);
+    let rows = parse_rows(&csv_text);
     Solution {
         status,
         report,

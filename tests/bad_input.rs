@@ -7,32 +7,7 @@ use std::time::Duration;
 /// Checks a refused run: exit status 2, one `error:` line naming every
 /// needle, no traceback, within seconds.
 fn assert_refused(name: &str, run: &Run, needles: &[&str]) {
-    assert_eq!(
-        run.status,
-        Some(2),
-        "{name}: status {:?}\nstdout:\n{}\nstderr:\n{}",
-        run.status,
-        run.stdout,
-        run.stderr
-    );
-    let ours: Vec<&str> = run
-        .stderr
-        .lines()
-        .filter(|l| l.starts_with("error:"))
-        .collect();
-    assert_eq!(
-        ours.len(),
-        1,
-        "{name}: expected one error line, got:\n{}",
-        run.stderr
-    );
-    for needle in needles {
-        assert!(
-            ours[0].contains(needle),
-            "{name}: '{}' does not name '{needle}'",
-            ours[0]
-        );
-    }
+    run.refused(name, 2, needles);
     for trace in [
         "PETSC ERROR",
         "PETSc error",

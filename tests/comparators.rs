@@ -17,11 +17,14 @@ fn hertz<'a>(mesh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
     v
 }
 
-/// Table 1: SSN-C (r = 1e3 E, u^0 = (0,-0.01)) takes 5-12 iterations (paper: 7-10).
+/// Table 1: SSN-C (r = 1e3 E, u^0 = (0,-0.01)) takes 5-12 iterations (paper:
+/// 7-10), and its answer satisfies Signorini's conditions from the CSV (to
+/// 1e-3: the penalized problem's penetration ~ lambda_n / r).
 #[test]
+#[ignore = "slow"]
 fn ssn_iterations_on_five_meshes() {
     for mesh in MESHES {
-        let (run, r, _) = solve_rows(
+        let (run, r, rows) = solve_rows(
             "ssn",
             2,
             &hertz(
@@ -29,9 +32,10 @@ fn ssn_iterations_on_five_meshes() {
                 &["-contact_algorithm", "ssn", "-ssn_initial_shift", "0,-0.01"],
             ),
         );
-        let its = num(&r, "iterations");
+        let its = r.iterations;
         assert!((5.0..=12.0).contains(&its), "{mesh}: {its}\n{}", run.stdout);
-        assert!((num(&r, "contact_force") - 800.0).abs() <= 1e-6 * 800.0);
+        check_signorini(&rows, Scales::of(&rows, 0.0, 0.0), 1e-3)
+            .unwrap_or_else(|e| panic!("{mesh}: {e}"));
     }
 }
 
@@ -62,18 +66,6 @@ fn ssn_refactorizes_with_one_symbolic_analysis() {
     };
     assert_eq!(count("MatCholFctrSym"), 1);
     assert!(count("MatCholFctrNum") >= 5);
-}
-
-fn max_rel_diff(a: &[Row], b: &[Row]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let pmax = a.iter().map(|x| x.lambda_n).fold(0.0, f64::max);
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| {
-            assert_eq!(x.node, y.node);
-            (x.lambda_n - y.lambda_n).abs() / pmax
-        })
-        .fold(0.0, f64::max)
 }
 
 /// At convergence SSN-C (with a large r: it solves the penalized problem) and
@@ -110,10 +102,10 @@ fn ssn_snesvi_and_ubr_agree() {
             ],
         ),
     );
-    assert!(num(&r, "max_penetration") <= 1e-12);
-    let d1 = max_rel_diff(&ubr, &ssn);
-    let d2 = max_rel_diff(&ssn, &vi);
-    let d3 = max_rel_diff(&ubr, &vi);
+    assert!(r.max_penetration <= 1e-12);
+    let d1 = max_pressure_gap(&ubr, &ssn);
+    let d2 = max_pressure_gap(&ssn, &vi);
+    let d3 = max_pressure_gap(&ubr, &vi);
     assert!(d1 <= 1e-6, "UBR-C vs SSN-C {d1}");
     assert!(d2 <= 1e-6, "SSN-C vs SNES VI {d2}");
     assert!(d3 <= 1e-6, "UBR-C vs SNES VI {d3}");
@@ -154,12 +146,12 @@ fn ssn_snesvi_and_ubr_agree_in_3d() {
     );
     let (_, r_vi, vi) = solve_rows("snesvi3d", 2, &block(&["-contact_algorithm", "snesvi"]));
     for r in [&r_ubr, &r_ssn, &r_vi] {
-        assert_eq!(r["dimension"], serde_json::json!(3));
-        assert!(num(r, "equilibrium_residual_rel") <= 1e-8);
+        assert_eq!(r.dimension, 3.0);
+        assert!(r.equilibrium_residual_rel <= 1e-8);
     }
-    let d1 = max_rel_diff(&ubr, &ssn);
-    let d2 = max_rel_diff(&ssn, &vi);
-    let d3 = max_rel_diff(&ubr, &vi);
+    let d1 = max_pressure_gap(&ubr, &ssn);
+    let d2 = max_pressure_gap(&ssn, &vi);
+    let d3 = max_pressure_gap(&ubr, &vi);
     assert!(d1 <= 1e-6, "3D UBR-C vs SSN-C {d1}");
     assert!(d2 <= 1e-6, "3D SSN-C vs SNES VI {d2}");
     assert!(d3 <= 1e-6, "3D UBR-C vs SNES VI {d3}");

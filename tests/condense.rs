@@ -4,55 +4,44 @@
 //! the iteration cap stops the run, and off where it does not apply.
 mod common;
 use common::*;
-use std::collections::HashMap;
-
-/// Max |a - b| over the contact nodes of one field, relative to max |b|
-/// (absolute where b vanishes, e.g. the tangential stress without friction).
-fn gap(a: &[Row], b: &[Row], field: impl Fn(&Row) -> f64) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let bm: HashMap<u64, f64> = b.iter().map(|r| (r.node, field(r))).collect();
-    let peak = b.iter().map(|r| field(r).abs()).fold(0.0, f64::max);
-    a.iter()
-        .map(|r| (field(r) - bm[&r.node]).abs())
-        .fold(0.0, f64::max)
-        / if peak > 0.0 { peak } else { 1.0 }
-}
 
 /// Runs `args` on one rank condensed (the default) and with
 /// `-ubr_condense_max 0`; both must take the same iterations and reach the
 /// same contact state, to `tol` relative. Returns the condensed report.
-fn same_as_full(name: &str, args: &[&str], unknowns: f64, tol: f64) -> serde_json::Value {
+fn same_as_full(name: &str, args: &[&str], unknowns: f64, tol: f64) -> Report {
     let (run, c, crows) = solve_rows(&format!("{name}_condensed"), 1, args);
     let mut plain = args.to_vec();
     plain.extend_from_slice(&["-ubr_condense_max", "0"]);
     let (_, f, frows) = solve_rows(&format!("{name}_full"), 1, &plain);
-    assert_eq!(num(&c, "condensed_unknowns"), unknowns, "{name}");
+    assert_eq!(c.condensed_unknowns, unknowns, "{name}");
     assert!(
         run.stdout
             .contains(&format!("condensed on the {unknowns} contact unknowns")),
         "{name}: {}",
         run.stdout
     );
-    assert_eq!(num(&f, "condensed_unknowns"), 0.0, "{name}");
-    assert_eq!(c["converged"], f["converged"], "{name}");
-    for key in [
-        "iterations",
-        "fixed_point_iterations",
-        "frictionless_iterations",
-        "contact_nodes",
-    ] {
-        assert_eq!(c[key], f[key], "{name}: {key}");
-    }
-    let (fc, ff) = (num(&c, "contact_force"), num(&f, "contact_force"));
+    assert_eq!(f.condensed_unknowns, 0.0, "{name}");
+    assert_eq!(c.converged, f.converged, "{name}");
+    assert_eq!(c.iterations, f.iterations, "{name}: iterations");
+    assert_eq!(
+        c.fixed_point_iterations, f.fixed_point_iterations,
+        "{name}: fixed_point_iterations"
+    );
+    assert_eq!(
+        c.frictionless_iterations, f.frictionless_iterations,
+        "{name}: frictionless_iterations"
+    );
+    assert_eq!(c.contact_nodes, f.contact_nodes, "{name}: contact_nodes");
+    let (fc, ff) = (c.contact_force, f.contact_force);
     assert!(
         (fc - ff).abs() <= tol * ff.abs(),
         "{name}: force {fc} vs {ff}"
     );
-    let g = gap(&crows, &frows, |r| r.lambda_n);
+    let g = field_gap(&crows, &frows, |r| r.lambda_n);
     assert!(g <= tol, "{name}: pressures differ by {g:.3e}");
-    let g = gap(&crows, &frows, |r| r.un);
+    let g = field_gap(&crows, &frows, |r| r.un);
     assert!(g <= tol, "{name}: u_n differ by {g:.3e}");
-    let g = gap(&crows, &frows, |r| r.lambda_t[0].hypot(r.lambda_t[1]));
+    let g = field_gap(&crows, &frows, |r| r.lambda_t[0].hypot(r.lambda_t[1]));
     assert!(g <= tol, "{name}: tangential stresses differ by {g:.3e}");
     for r in &crows {
         let s = frows.iter().find(|s| s.node == r.node).unwrap();
@@ -67,8 +56,8 @@ const MESH: &str = "meshes/hertz_6619.msh";
 fn ubr_c_and_anderson() {
     // Frictionless along an axis: the Schur complement on u_n alone.
     let c = same_as_full("c", &hertz_args(MESH, &[]), 137.0, 1e-9);
-    assert_eq!(c["converged"], serde_json::Value::Bool(true));
-    let its = num(&c, "iterations");
+    assert!(c.converged);
+    let its = c.iterations;
     assert!((35.0..=65.0).contains(&its), "{its} iterations");
     // The least-squares extrapolation amplifies round-off differences
     // (measured 9e-8 here); still far below the 1e-5 error of this tolerance.
@@ -87,7 +76,7 @@ fn tresca_and_coulomb() {
         ("fp", "options/hertz-coulomb-paper"),
     ] {
         let r = same_as_full(name, &["-options_file", file, "-mesh", MESH], 274.0, 1e-9);
-        assert_eq!(r["converged"], serde_json::Value::Bool(true), "{name}");
+        assert!(r.converged, "{name}");
     }
 }
 
@@ -115,7 +104,7 @@ fn stopped_by_the_cap() {
             );
             out.push(contact_rows(&csv));
         }
-        let g = gap(&out[0], &out[1], |r| r.lambda_n);
+        let g = field_gap(&out[0], &out[1], |r| r.lambda_n);
         assert!(g <= 1e-9, "cap {cap}: pressures differ by {g:.3e}");
         let _ = std::fs::remove_dir_all(&dir);
     }
@@ -127,11 +116,11 @@ fn stopped_by_the_cap() {
 #[test]
 fn where_it_does_not_apply() {
     let (_, r, _) = solve_rows("n2", 2, &hertz_args(MESH, &[]));
-    assert_eq!(num(&r, "condensed_unknowns"), 137.0);
+    assert_eq!(r.condensed_unknowns, 137.0);
     let (_, r, _) = solve_rows("petsc", 1, &hertz_args(MESH, &["-ubr_mumps_direct", "0"]));
-    assert_eq!(num(&r, "condensed_unknowns"), 0.0);
+    assert_eq!(r.condensed_unknowns, 0.0);
     let (run, r, _) = solve_rows("monitor", 1, &hertz_args(MESH, &["-ubr_monitor"]));
-    assert_eq!(num(&r, "condensed_unknowns"), 0.0);
+    assert_eq!(r.condensed_unknowns, 0.0);
     assert!(run.stdout.contains("UBR-C    38"), "{}", run.stdout);
     let block = [
         "-options_file",

@@ -11,25 +11,50 @@ const MESHES: [&str; 5] = [
     "meshes/hertz_37473.msh",
 ];
 
+/// The Hertz scenes' load and material (options/hertz): the whole
+/// cylinder's force, its radius, E, nu, and nu_f of options/hertz-tresca.
+const HERTZ: (f64, f64, f64, f64) = (1600.0, 8.0, 2000.0, 0.3);
+const NU_F: f64 = 0.6;
+
+/// Tresca's law from the CSV alone, with the bound nu_f p_Hertz computed
+/// here (not read from the program), stresses to `tol` of the peak pressure,
+/// sticking nodes still to `slip_tol` of the largest slip.
+fn check_tresca_hertz(rows: &[Row], tol: f64, slip_tol: f64) -> Result<(), String> {
+    let (f, radius, young, nu) = HERTZ;
+    let s = hertz_bound_2d(rows, NU_F, f, radius, young, nu);
+    let sc = Scales::of(rows, 0.0, 0.0);
+    check_signorini(rows, sc, tol)?;
+    check_friction(rows, sc, tol, slip_tol, |x| s[&x.node])
+}
+
 fn scene<'a>(file: &'a str, mesh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
     let mut v = vec!["-options_file", file, "-mesh", mesh];
     v.extend_from_slice(extra);
     v
 }
 
-/// Table 3: UBR-TF takes 35-70 iterations on the five meshes (paper: 47-57).
+/// Table 3: UBR-TF takes 35-70 iterations on the five meshes (paper: 47-57),
+/// and its answer satisfies Tresca's law with the Hertz bound computed by
+/// the test, at the paper's tolerance: the bound to 1e-3 of the peak
+/// pressure, nodes that slip more than 5% of the largest slip at it
+/// (sticking nodes creep up to 1.7% before the tight solution).
+///
+/// A wrong answer fails it: `UBR_TEST_PERTURB=table3=1.01 cargo test
+/// --release --test friction table3 -- --include-ignored` (stresses 1% too
+/// large) ends "hertz_442.msh: node 9: |lambda_t| ... over the bound ...".
 #[test]
+#[ignore = "slow"]
 fn table3_tresca_iterations() {
     for mesh in MESHES {
         let (run, r, rows) =
             solve_rows("table3", 2, &scene("options/hertz-tresca-paper", mesh, &[]));
-        let its = num(&r, "iterations");
+        let its = r.iterations;
         assert!(
             (35.0..=70.0).contains(&its),
             "{mesh}: {its}\n{}",
             run.stdout
         );
-        assert!((num(&r, "contact_force") - 800.0).abs() <= 1e-6 * 800.0);
+        check_tresca_hertz(&rows, 1e-3, 0.05).unwrap_or_else(|e| panic!("{mesh}: {e}"));
         assert!(
             rows.iter().any(|x| x.status == "stick") && rows.iter().any(|x| x.status == "slip")
         );
@@ -38,17 +63,19 @@ fn table3_tresca_iterations() {
 }
 
 /// Table 4: CF-FP takes 5-15 fixed-point and 80-140 Tresca iterations in all
-/// (paper: 8-13 and 106-122).
+/// (paper: 8-13 and 106-122), and its answer satisfies Signorini's
+/// conditions and Coulomb's law from the CSV at the paper's tolerance.
 #[test]
+#[ignore = "slow"]
 fn table4_coulomb_iterations() {
     for mesh in MESHES {
-        let (run, r, _) = solve_rows(
+        let (run, r, rows) = solve_rows(
             "table4",
             2,
             &scene("options/hertz-coulomb-paper", mesh, &[]),
         );
-        let fp = num(&r, "fixed_point_iterations");
-        let inner = num(&r, "iterations");
+        let fp = r.fixed_point_iterations;
+        let inner = r.iterations;
         assert!(
             (5.0..=15.0).contains(&fp),
             "{mesh}: {fp} fixed-point iterations\n{}",
@@ -59,34 +86,39 @@ fn table4_coulomb_iterations() {
             "{mesh}: {inner} inner iterations\n{}",
             run.stdout
         );
-        assert!((num(&r, "contact_force") - 800.0).abs() <= 1e-6 * 800.0);
+        let sc = Scales::of(&rows, 0.0, 0.0);
+        check_signorini(&rows, sc, 1e-3).unwrap_or_else(|e| panic!("{mesh}: {e}"));
+        check_friction(&rows, sc, 1e-3, 0.05, |x| {
+            r.friction_coefficient * x.lambda_n.max(0.0)
+        })
+        .unwrap_or_else(|e| panic!("{mesh}: {e}"));
         println!("{mesh}: CF-FP {fp} / {inner}");
     }
 }
 
-fn check_friction_conditions(r: &serde_json::Value, what: &str) {
-    let excess = num(r, "max_friction_excess");
-    let smax = num(r, "max_bound");
+fn check_friction_conditions(r: &Report, what: &str) {
+    let excess = r.max_friction_excess;
+    let smax = r.max_bound;
     assert!(
         excess <= 1e-8 * smax,
         "{what}: |lambda_t| exceeds s by {excess} (max s {smax})"
     );
-    let stick = num(r, "max_stick_slip");
-    let slip = num(r, "max_slip");
+    let stick = r.max_stick_slip;
+    let slip = r.max_slip;
     assert!(
         stick <= 1e-8 * slip,
         "{what}: slip {stick} at sticking nodes (max slip {slip})"
     );
-    let cos = num(r, "min_slip_alignment");
+    let cos = r.min_slip_alignment;
     assert!(
         cos >= 1.0 - 1e-6,
         "{what}: u_t and lambda_t not aligned at a sliding node (cos {cos})"
     );
-    let eq = num(r, "equilibrium_residual_rel");
+    let eq = r.equilibrium_residual_rel;
     assert!(eq <= 1e-10, "{what}: equilibrium {eq}");
-    let pmax = num(r, "peak_pressure");
-    assert!(num(r, "min_lambda_n") >= -1e-10 * pmax);
-    assert!(num(r, "max_penetration") <= 1e-8 * num(r, "max_abs_gap"));
+    let pmax = r.peak_pressure;
+    assert!(r.min_lambda_n >= -1e-10 * pmax);
+    assert!(r.max_penetration <= 1e-8 * r.max_abs_gap);
 }
 
 /// At a tight tolerance the Tresca and Coulomb laws hold at every candidate.
@@ -103,6 +135,8 @@ fn friction_laws_at_tight_tolerance() {
     );
     check_friction_conditions(&r, "Tresca");
     assert!(rows.iter().filter(|x| x.status == "slip").count() >= 2);
+    // The same law from the CSV, with the bound computed here.
+    check_tresca_hertz(&rows, 1e-8, 1e-6).unwrap();
     let (_, r, _) = solve_rows(
         "coulomb_tight",
         2,
@@ -169,12 +203,13 @@ fn large_friction_sticks_everything() {
         rows.iter().all(|x| x.status != "slip"),
         "a contact node slips"
     );
-    assert_eq!(num(&r, "slip_nodes"), 0.0);
+    assert_eq!(r.slip_nodes, 0.0);
 }
 
 /// Coulomb friction raises the peak pressure and narrows the contact zone
 /// (paper section 7.1.2; an independent implementation: 384 vs 365, 69 vs 72 nodes).
 #[test]
+#[ignore = "slow"]
 fn coulomb_peak_higher_and_zone_narrower() {
     let mesh = "meshes/hertz_37473.msh";
     let (_, free, _) = solve_rows("free37", 2, &scene("options/hertz-paper", mesh, &[]));
@@ -183,8 +218,8 @@ fn coulomb_peak_higher_and_zone_narrower() {
         2,
         &scene("options/hertz-coulomb-paper", mesh, &[]),
     );
-    let (pf, pc) = (num(&free, "peak_pressure"), num(&coul, "peak_pressure"));
-    let (nf, nc) = (num(&free, "contact_active"), num(&coul, "contact_active"));
+    let (pf, pc) = (free.peak_pressure, coul.peak_pressure);
+    let (nf, nc) = (free.contact_active, coul.contact_active);
     println!("peak {pc} vs {pf}, contact nodes {nc} vs {nf}");
     assert!(pc > pf + 10.0, "peak {pc} vs frictionless {pf}");
     assert!(nc < nf, "contact nodes {nc} vs frictionless {nf}");
@@ -242,4 +277,69 @@ fn friction_rank_count_independence() {
             }
         }
     }
+}
+
+/// An independent check of the Tresca scenes (issue 25, item 7; the
+/// frictionless ones are checked against SSN-C and SNES VI, which have no
+/// friction). 2D, the Hertz bound: the plain UBR-TF iteration under the
+/// paper's test and the Anderson-accelerated one under the accuracy test,
+/// both tight, reach the same stresses, and both satisfy Tresca's law from
+/// the CSV with the bound computed by the test from Hertz's formula.
+#[test]
+fn tresca_two_iterations_and_the_law_agree() {
+    let mesh = "meshes/hertz_1692.msh";
+    let (_, _, plain) = solve_rows(
+        "tresca-plain",
+        1,
+        &scene("options/hertz-tresca-paper", mesh, &["-ubr_rtol", "1e-12"]),
+    );
+    let (_, r, aa) = solve_rows(
+        "tresca-aa",
+        2,
+        &scene("options/hertz-tresca", mesh, &CONVERGED),
+    );
+    assert_eq!(r.anderson_memory, 10.0);
+    for (what, rows) in [("plain", &plain), ("Anderson", &aa)] {
+        check_tresca_hertz(rows, 1e-7, 1e-5).unwrap_or_else(|e| panic!("{what}: {e}"));
+    }
+    let gap = max_stress_gap(&aa, &plain);
+    assert!(gap <= 1e-7, "the two iterations differ by {gap:.2e}");
+}
+
+/// 3D, the bound of a frictionless solve (`-tresca_bound frictionless`,
+/// options/block3d-tresca): the test solves the frictionless block itself,
+/// takes s = nu_f lambda_n from its CSV, and checks Tresca's law at every
+/// candidate of the Tresca answer with that bound.
+///
+/// A wrong answer fails it: `UBR_TEST_PERTURB=tresca3d=1.001 cargo test
+/// --release --test friction tresca_3d` (stresses 0.1% too large) ends
+/// "|lambda_t| ... over the bound".
+#[test]
+fn tresca_3d_law_with_the_bound_solved_here() {
+    let mesh = ["-mesh", "meshes/block3d_198.msh"];
+    let (_, _, free) = solve_rows(
+        "tresca3d-free",
+        1,
+        &[&["-options_file", "options/block3d"][..], &mesh, &CONVERGED].concat(),
+    );
+    let (_, r, rows) = solve_rows(
+        "tresca3d",
+        2,
+        &[
+            &["-options_file", "options/block3d-tresca"][..],
+            &mesh,
+            &CONVERGED,
+        ]
+        .concat(),
+    );
+    let nu_f = r.friction_coefficient;
+    assert_eq!(nu_f, 0.3);
+    let s: std::collections::HashMap<u64, f64> = free
+        .iter()
+        .map(|x| (x.node, nu_f * x.lambda_n.max(0.0)))
+        .collect();
+    let sc = Scales::of(&rows, 0.0, 0.0);
+    check_signorini(&rows, sc, 1e-6).unwrap();
+    check_friction(&rows, sc, 1e-6, 1e-4, |x| s[&x.node]).unwrap();
+    assert!(rows.iter().any(|x| x.status == "slip"), "nothing slips");
 }

@@ -10,143 +10,161 @@ const MESHES: [(&str, usize); 5] = [
     ("meshes/hertz_37473.msh", 37473),
 ];
 
+/// The pressures of UBR-C under the paper's stopping test (4.16) may lie
+/// this far from the converged discrete solution, relative to its peak:
+/// measured 0.2% (442 nodes), 1.0%, 1.0%, 3.2% and 3.7% (37473 nodes) at
+/// rho = 1.5 r; the paper's test bounds the change of an iterate, not its
+/// error (README, "A stopping test that bounds the error").
+const PAPER_STOP_GAP: f64 = 0.05;
+
+/// The converged discrete solution of the Table 1 scene on `mesh`.
+fn converged(mesh: &str) -> std::sync::Arc<Vec<Row>> {
+    converged_rows(mesh, &hertz_aa_args(mesh, &[]))
+}
+
 /// Table 1: iterations at r = 0.11E on the five meshes (paper 40-47; accepted 35-65),
-/// the contact force balances the load, and the pressure is within 3.5% of Hertz
+/// the pressures within PAPER_STOP_GAP of the converged discrete solution and
+/// Signorini's conditions from the CSV, and the pressure within 3.5% of Hertz
 /// on meshes of 1692 nodes and finer.
+///
+/// A wrong answer fails it: `UBR_TEST_PERTURB=table1=1.06 cargo test
+/// --release --test hertz table1_iterations -- --include-ignored` (every
+/// pressure 6% too large) ends "hertz_442.msh: pressures 6.02e-2 of the peak
+/// from the converged solution".
 #[test]
-fn table1_iterations_force_and_hertz_error() {
+#[ignore = "slow"]
+fn table1_iterations_pressures_and_hertz_error() {
     for (mesh, paper_nodes) in MESHES {
-        let (run, r, rows) = solve("table1", 2, &hertz_args(mesh, &[]));
-        let nodes = num(&r, "nodes");
+        let (run, r, rows) = solve_rows("table1", 2, &hertz_args(mesh, &[]));
+        let nodes = r.nodes;
         assert!(
             (nodes - paper_nodes as f64).abs() < 0.03 * paper_nodes as f64,
             "{mesh}: {nodes} nodes"
         );
-        let its = num(&r, "iterations");
+        let its = r.iterations;
         assert!(
             (35.0..=65.0).contains(&its),
             "{mesh}: {its} iterations\n{}",
             run.stdout
         );
-        assert_eq!(r["converged"], serde_json::Value::Bool(true));
-        let force = num(&r, "contact_force");
+        assert!(r.converged);
+        let gap = max_pressure_gap(&rows, &converged(mesh));
         assert!(
-            (force - 800.0).abs() <= 1e-6 * 800.0,
-            "{mesh}: contact force {force}"
+            gap <= PAPER_STOP_GAP,
+            "{mesh}: pressures {gap:.2e} of the peak from the converged solution"
         );
-        let err = num(&r, "pressure_error_rel");
+        // Signorini's conditions at the paper's tolerance (eps = 1e-5, the
+        // pressure non-negative to 1e-4 of the peak on open nodes).
+        let sc = Scales::of(&rows, 0.0, 0.0);
+        check_signorini(&rows, sc, 1e-3).unwrap_or_else(|e| panic!("{mesh}: {e}"));
+        let err = r.pressure_error_rel;
         if paper_nodes >= 1692 {
             assert!(err <= 0.035, "{mesh}: relative pressure error {err}");
         }
-        assert_eq!(num(&r, "matrix_mallocs"), 0.0);
-        // The pressure is the normal stress of u^k: non-negative up to the
-        // iteration's tolerance (1e-5) on open nodes.
-        let peak = num(&r, "peak_pressure");
+        assert_eq!(r.matrix_mallocs, 0.0);
         assert!(
-            rows.iter().all(|(_, l, _)| *l >= -1e-4 * peak),
-            "{mesh}: negative pressure {}",
-            num(&r, "min_lambda_n")
-        );
-        assert!(
-            rows.iter().any(|(_, _, s)| s == "contact") && rows.iter().any(|(_, _, s)| s == "open")
+            rows.iter().any(|x| x.status == "contact") && rows.iter().any(|x| x.status == "open")
         );
         println!(
-            "{mesh}: {its} iterations, error {:.3}%, {:.3} s",
+            "{mesh}: {its} iterations, {gap:.2e} from the converged pressures, Hertz error {:.3}%, {:.3} s",
             100.0 * err,
             run.seconds
         );
     }
 }
 
-/// The paper's exact setting, rho = r, also takes 35-65 iterations on every mesh.
+/// The paper's stopping test with the paper's exact setting rho = r stops
+/// further from the solution: measured 0.4% (442 nodes), 3.7%, 2.7%, 6.9%
+/// and 6.6% (37473 nodes) of the peak pressure.
+const PAPER_STOP_GAP_RHO_R: f64 = 0.10;
+
+/// The paper's exact setting, rho = r, also takes 35-65 iterations on every
+/// mesh, its pressures within PAPER_STOP_GAP_RHO_R of the converged ones.
 #[test]
+#[ignore = "slow"]
 fn table1_iterations_with_rho_equal_r() {
     for (mesh, _) in MESHES {
-        let (run, r, _) = solve("table1rho", 1, &hertz_args(mesh, &["-ubr_rho", "220"]));
-        let its = num(&r, "iterations");
+        let (run, r, rows) = solve_rows("table1rho", 1, &hertz_args(mesh, &["-ubr_rho", "220"]));
+        let its = r.iterations;
         assert!(
             (35.0..=65.0).contains(&its),
             "{mesh}: {its} iterations\n{}",
             run.stdout
         );
-        let force = num(&r, "contact_force");
+        let gap = max_pressure_gap(&rows, &converged(mesh));
         assert!(
-            (force - 800.0).abs() <= 1e-6 * 800.0,
-            "{mesh}: contact force {force}"
+            gap <= PAPER_STOP_GAP_RHO_R,
+            "{mesh}: pressures {gap:.2e} of the peak from the converged solution"
         );
+        println!("{mesh}: rho = r: {its} iterations, {gap:.2e} from the converged pressures");
     }
 }
 
 /// At a low load (b/R = 0.085) Hertz theory holds well: on a mesh refined near
-/// the contact the pressure error falls below 1%.
+/// the contact the pressure error falls below 1%; the pressures are within
+/// the accuracy stop's 1e-3 of the converged discrete solution.
 #[test]
 fn low_load_matches_hertz_within_one_percent() {
-    let (run, r, _) = solve("lowload", 2, &["-options_file", "options/hertz-lowload"]);
-    let err = num(&r, "pressure_error_rel");
+    let args = ["-options_file", "options/hertz-lowload"];
+    let (run, r, rows) = solve_rows("lowload", 2, &args);
+    let err = r.pressure_error_rel;
     assert!(err < 0.01, "relative error {err}\n{}", run.stdout);
-    let force = num(&r, "contact_force");
-    assert!((force - 50.0).abs() <= 1e-6 * 50.0);
+    let gap = max_pressure_gap(&rows, &converged_rows("lowload", &args));
+    assert!(gap <= 1e-3, "pressures {gap:.2e} from the converged ones");
 }
 
 /// At a tight tolerance the discrete optimality conditions hold.
 #[test]
 fn optimality_conditions_at_tight_tolerance() {
-    let (run, r, _) = solve(
+    let (run, r, rows) = solve_rows(
         "kkt",
         2,
         &hertz_args("meshes/hertz_1692.msh", &["-ubr_rtol", "1e-10"]),
     );
-    let eq = num(&r, "equilibrium_residual_rel");
+    let eq = r.equilibrium_residual_rel;
     assert!(eq <= 1e-8, "equilibrium {eq}\n{}", run.stdout);
-    let pmax = num(&r, "peak_pressure");
+    let pmax = r.peak_pressure;
     assert!(
-        num(&r, "min_lambda_n") >= -1e-10 * pmax,
+        r.min_lambda_n >= -1e-10 * pmax,
         "min lambda_n {}",
-        num(&r, "min_lambda_n")
+        r.min_lambda_n
     );
-    let pen = num(&r, "max_penetration");
-    let gmax = num(&r, "max_abs_gap");
+    let pen = r.max_penetration;
+    let gmax = r.max_abs_gap;
     assert!(pen <= 1e-8 * gmax, "penetration {pen} vs max|g| {gmax}");
     // complementarity at round-off relative to force * max|g|
-    let c = num(&r, "complementarity").abs();
+    let c = r.complementarity.abs();
     assert!(c <= 1e-8 * 800.0 * gmax, "complementarity {c}");
+    // The same from the CSV, node by node.
+    check_signorini(&rows, Scales::of(&rows, 0.0, 0.0), 1e-8).unwrap();
 }
 
 /// -n 1, 2, 3 agree: iterations within +-1 at the default tolerance; pressures to
 /// 1e-8 relative at -ubr_rtol 1e-10.
 #[test]
+#[ignore = "slow"]
 fn rank_count_independence() {
     let mut its = Vec::new();
     for n in [1, 2, 3] {
-        let (_, r, _) = solve("ranks", n, &hertz_args("meshes/hertz_6619.msh", &[]));
-        its.push(num(&r, "iterations"));
+        let (_, r, _) = solve_rows("ranks", n, &hertz_args("meshes/hertz_6619.msh", &[]));
+        its.push(r.iterations);
     }
     assert!(
         its.iter().all(|&i| (i - its[0]).abs() <= 1.0),
         "iterations {its:?}"
     );
-    let mut pressures: Vec<Vec<(u64, f64, String)>> = Vec::new();
+    let mut pressures: Vec<Vec<Row>> = Vec::new();
     for n in [1, 2, 3] {
-        let (_, _, rows) = solve(
+        let (_, _, rows) = solve_rows(
             "ranks_tight",
             n,
             &hertz_args("meshes/hertz_6619.msh", &["-ubr_rtol", "1e-10"]),
         );
         pressures.push(rows);
     }
-    let pmax = pressures[0].iter().map(|r| r.1).fold(0.0, f64::max);
     for other in &pressures[1..] {
-        assert_eq!(other.len(), pressures[0].len());
-        for (a, b) in pressures[0].iter().zip(other) {
-            assert_eq!(a.0, b.0);
-            assert!(
-                (a.1 - b.1).abs() <= 1e-8 * pmax,
-                "node {}: {} vs {}",
-                a.0,
-                a.1,
-                b.1
-            );
-        }
+        let gap = max_pressure_gap(other, &pressures[0]);
+        assert!(gap <= 1e-8, "pressures differ by {gap:.2e} of the peak");
     }
 }
 
@@ -193,13 +211,10 @@ fn one_numeric_factorization() {
 /// built-in generator runs the same scene.
 #[test]
 fn msh22_msh41_and_generated_meshes() {
-    let (_, a, ra) = solve("v41", 2, &hertz_args("meshes/hertz_442.msh", &[]));
-    let (_, b, rb) = solve("v22", 2, &hertz_args("meshes/hertz_442_v22.msh", &[]));
-    assert_eq!(num(&a, "iterations"), num(&b, "iterations"));
-    assert_eq!(ra.len(), rb.len());
-    for (x, y) in ra.iter().zip(&rb) {
-        assert!((x.1 - y.1).abs() <= 1e-10 * (1.0 + x.1.abs()));
-    }
+    let (_, a, ra) = solve_rows("v41", 2, &hertz_args("meshes/hertz_442.msh", &[]));
+    let (_, b, rb) = solve_rows("v22", 2, &hertz_args("meshes/hertz_442_v22.msh", &[]));
+    assert_eq!(a.iterations, b.iterations);
+    assert!(field_gap(&ra, &rb, |x| x.lambda_n) <= 1e-10);
     let args = [
         "-options_file",
         "options/hertz-paper",
@@ -208,10 +223,24 @@ fn msh22_msh41_and_generated_meshes() {
         "-mesh_h",
         "0.2",
     ];
-    let (run, g, _) = solve("generated", 2, &args);
-    let its = num(&g, "iterations");
+    let (run, g, rows) = solve_rows("generated", 2, &args);
+    let its = g.iterations;
     assert!((35.0..=65.0).contains(&its), "{its}\n{}", run.stdout);
-    assert!((num(&g, "contact_force") - 800.0).abs() < 1e-6 * 800.0);
+    // The converged solution of the same scene (options/hertz: Anderson
+    // takes rho = r).
+    let reference = [
+        "-options_file",
+        "options/hertz",
+        "-mesh_generate",
+        "hertz2d",
+        "-mesh_h",
+        "0.2",
+    ];
+    let gap = max_pressure_gap(&rows, &converged_rows("generated", &reference));
+    assert!(
+        gap <= PAPER_STOP_GAP,
+        "{gap:.2e} from the converged pressures"
+    );
     // 1552 nodes: below the 1692-node bar of 3.5%
-    assert!(num(&g, "pressure_error_rel") < 0.05);
+    assert!(g.pressure_error_rel < 0.05);
 }

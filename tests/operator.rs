@@ -48,26 +48,15 @@ fn sbaij_products_equal_aij_products() {
                 ]);
                 let (run, r, rows) =
                     solve_rows(&format!("sbaij-{name}-{ranks}-{sbaij}"), ranks, &args);
-                let solver = r["linear_solver"].as_str().unwrap().to_string();
+                let solver = r.linear_solver.as_str().to_string();
                 assert_eq!(
                     solver.contains("SBAIJ products"),
                     sbaij == "1",
                     "{name}: {solver}\n{}",
                     run.stdout
                 );
-                let cg: f64 = r["inner_iterations"]
-                    .as_array()
-                    .unwrap()
-                    .iter()
-                    .map(|v| v.as_f64().unwrap())
-                    .sum();
-                results.push((
-                    num(&r, "iterations"),
-                    cg,
-                    num(&r, "r"),
-                    num(&r, "r_trial"),
-                    rows,
-                ));
+                let cg: f64 = r.inner_iterations.iter().copied().sum();
+                results.push((r.iterations, cg, r.r, r.r_trial, rows));
             }
             let (aij, sb) = (&results[0], &results[1]);
             assert!(

@@ -4,10 +4,6 @@ mod common;
 use common::*;
 use std::process::Command;
 
-fn python() -> String {
-    std::env::var("UBR_PYTHON").unwrap_or_else(|_| "/usr/bin/python3".into())
-}
-
 /// A 2-rank .pvtu reads back with VTK's own reader: every cell once, the
 /// fields, and the pressure field's maximum equal to the report's peak.
 #[test]
@@ -56,8 +52,8 @@ print(repr(float(vtk_to_numpy(cd.GetArray("von_mises")).max())), sorted(set(vtk_
         .split_whitespace()
         .map(|v| v.parse().unwrap())
         .collect();
-    assert_eq!(counts[1], num(&r, "elements"), "every cell written once");
-    assert!(counts[0] >= num(&r, "nodes"), "points {}", counts[0]);
+    assert_eq!(counts[1], r.elements, "every cell written once");
+    assert!(counts[0] >= r.nodes, "points {}", counts[0]);
     for f in [
         "displacement",
         "contact_pressure",
@@ -80,9 +76,9 @@ print(repr(float(vtk_to_numpy(cd.GetArray("von_mises")).max())), sorted(set(vtk_
     }
     let pmax: f64 = lines[3].parse().unwrap();
     assert!(
-        (pmax - num(&r, "peak_pressure")).abs() <= 1e-12 * pmax,
+        (pmax - r.peak_pressure).abs() <= 1e-12 * pmax,
         "{pmax} vs {}",
-        num(&r, "peak_pressure")
+        r.peak_pressure
     );
     assert_eq!(lines[4], "3 9");
     assert!(lines[5].ends_with("[0, 1]"), "{}", lines[5]);
@@ -375,7 +371,7 @@ fn summary_prints_si_values_in_significant_digits() {
         "-reference_radius",
         "0.2",
     ];
-    let (run, r, _) = solve("out-punch-run", 2, &args);
+    let (run, r, _) = solve_rows("out-punch-run", 2, &args);
     assert!(
         run.stdout.contains("E = 2.1e11, nu = 0.3"),
         "{}",
@@ -391,23 +387,36 @@ fn summary_prints_si_values_in_significant_digits() {
         line.contains("contact half-width") && !line.contains("radius"),
         "{line}"
     );
-    let close = |printed: f64, key: &str| {
-        let exact = num(&r, key);
+    let close = |printed: f64, exact: f64, key: &str| {
         assert!(
             (printed - exact).abs() <= 1e-4 * exact.abs(),
             "{key}: printed {printed}, report {exact}: {line}"
         );
     };
-    close(number_after(line, "half-width"), "contact_half_width");
-    close(number_after(line, "vs Hertz"), "contact_half_width_hertz");
-    close(number_after(line, "peak pressure"), "peak_pressure");
-    close(number_after(line, "Hertz p0"), "peak_pressure_hertz");
-    let groups = r["contact_force_groups"]
-        .as_object()
-        .expect("contact_force_groups");
+    close(
+        number_after(line, "half-width"),
+        r.contact_half_width,
+        "contact_half_width",
+    );
+    close(
+        number_after(line, "vs Hertz"),
+        r.contact_half_width_hertz,
+        "contact_half_width_hertz",
+    );
+    close(
+        number_after(line, "peak pressure"),
+        r.peak_pressure,
+        "peak_pressure",
+    );
+    close(
+        number_after(line, "Hertz p0"),
+        r.peak_pressure_hertz,
+        "peak_pressure_hertz",
+    );
+    let groups = &r.contact_force_groups;
     assert_eq!(groups.len(), 1);
-    let f = num(&r, "contact_force");
-    assert!((groups["contact"].as_f64().unwrap() - f).abs() <= 1e-12 * f);
+    let f = r.contact_force;
+    assert!((groups["contact"] - f).abs() <= 1e-12 * f);
     assert!(!run.stdout.contains("by surface"), "{}", run.stdout);
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -502,15 +511,11 @@ fn contact_force_of_each_group() {
             plot.to_str().unwrap(),
         ]
     };
-    let (run, r, rows) = solve("out-feet-two", 2, &args("foot_a,foot_b"));
-    let total = num(&r, "contact_force");
-    let groups = r["contact_force_groups"]
-        .as_object()
-        .expect("contact_force_groups");
-    let force = |g: &serde_json::Map<String, serde_json::Value>, k: &str| {
-        g.get(k)
-            .and_then(|v| v.as_f64())
-            .unwrap_or_else(|| panic!("no {k}: {g:?}"))
+    let (run, r, rows) = solve_rows("out-feet-two", 2, &args("foot_a,foot_b"));
+    let total = r.contact_force;
+    let groups = &r.contact_force_groups;
+    let force = |g: &std::collections::BTreeMap<String, f64>, k: &str| {
+        *g.get(k).unwrap_or_else(|| panic!("no {k}: {g:?}"))
     };
     let (a, b) = (force(groups, "foot_a"), force(groups, "foot_b"));
     assert_eq!(groups.len(), 2);
@@ -534,8 +539,8 @@ fn contact_force_of_each_group() {
     );
     assert!(rows.len() > 10 && png_size(&plot) == (1200, 800));
     // `feet` holds foot_a's nodes too: they count in foot_a, named first.
-    let (_, r2, _) = solve("out-feet-overlap", 2, &args("foot_a,feet"));
-    let g2 = r2["contact_force_groups"].as_object().unwrap();
+    let (_, r2, _) = solve_rows("out-feet-overlap", 2, &args("foot_a,feet"));
+    let g2 = &r2.contact_force_groups;
     assert!((force(g2, "foot_a") - a).abs() <= 1e-9 * total, "{g2:?}");
     assert!((force(g2, "feet") - b).abs() <= 1e-9 * total, "{g2:?}");
     let _ = std::fs::remove_dir_all(&dir);

@@ -11,7 +11,7 @@ fn sweep(name: &str, base: &[&str], young: f64, ratios: &[f64]) {
     let mut reference = base.to_vec();
     reference.extend_from_slice(&["-ubr_lambda_rtol", "1e-10"]);
     let (_, rep, ref_rows) = solve_rows(&format!("{name}-ref"), 1, &reference);
-    assert_eq!(rep["converged"], true);
+    assert!(rep.converged);
     let mut vi = base.to_vec();
     vi.extend_from_slice(&["-contact_algorithm", "snesvi"]);
     let (_, _, vi_rows) = solve_rows(&format!("{name}-vi"), 1, &vi);
@@ -25,18 +25,18 @@ fn sweep(name: &str, base: &[&str], young: f64, ratios: &[f64]) {
         let mut args = base.to_vec();
         args.extend_from_slice(&["-ubr_r", &r]);
         let (run, rep, rows) = solve_rows(&format!("{name}-{q}"), 1, &args);
-        assert_eq!(rep["r_source"], "option");
-        assert_eq!(num(&rep, "r"), q * young);
+        assert_eq!(rep.r_source, "option");
+        assert_eq!(rep.r, q * young);
         let e = max_pressure_gap(&rows, &ref_rows);
-        let est = num(&rep, "lambda_error_estimate");
+        let est = rep.lambda_error_estimate;
         println!(
             "{name}: r/E = {q:e}: {} iterations, error {e:.2e}, estimate {est:.2e}",
-            rep["iterations"]
+            rep.iterations
         );
         assert!(
             e <= 1e-3,
             "{name}: r/E = {q}: error {e:.2e} (estimate {est:.2e}), {} iterations\n{}",
-            rep["iterations"],
+            rep.iterations,
             run.stdout
         );
     }

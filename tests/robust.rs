@@ -51,19 +51,20 @@ fn run(
 /// The report of a failed run: `converged` false, `failure` the message
 /// the run printed (its first line on stderr that carries it), the
 /// contact CSV one row per candidate.
-fn failed_report(run: &Run, dir: &std::path::Path, candidates: usize) -> serde_json::Value {
+fn failed_report(run: &Run, dir: &std::path::Path, candidates: usize) -> Report {
     let rep = report(&dir.join("report.json"));
-    assert_eq!(rep["converged"], false, "{rep}");
-    let failure = rep["failure"]
-        .as_str()
-        .unwrap_or_else(|| panic!("no failure in the report: {rep}"));
+    assert!(!rep.converged, "{rep:?}");
+    let failure = rep
+        .failure
+        .as_deref()
+        .unwrap_or_else(|| panic!("no failure in the report: {rep:?}"));
     assert!(
         run.stderr.lines().any(|l| l == failure),
         "the report's failure is not the printed message:\n{failure}\nstderr:\n{}",
         run.stderr
     );
-    assert_eq!(num(&rep, "contact_nodes") as usize, candidates);
-    assert_eq!(contact_csv(&dir.join("contact.csv")).len(), candidates);
+    assert_eq!(rep.contact_nodes as usize, candidates);
+    assert_eq!(contact_rows(&dir.join("contact.csv")).len(), candidates);
     rep
 }
 
@@ -130,20 +131,20 @@ fn mumps_out_of_memory_writes_the_report() {
     );
     assert_eq!(run.status, Some(4), "stderr:\n{}", run.stderr);
     let rep = failed_report(&run, &dir, 262);
-    let failure = rep["failure"].as_str().unwrap();
+    let failure = rep.failure.as_deref().unwrap();
     assert!(
         failure.starts_with("error: out of memory: MUMPS factorization needs"),
         "{failure}"
     );
     assert!(failure.contains("ICNTL(23)"), "{failure}");
     // Nothing ran: no iteration, no estimate, no r choice.
-    assert_eq!(rep["iterations"], 0);
-    assert_eq!(rep["linear_solves"], 0);
-    assert!(rep["lambda_error_estimate"].is_null(), "{rep}");
-    assert!(rep["criterion"].is_null(), "{rep}");
-    assert!(rep["r_estimate"].is_null(), "{rep}");
-    assert_eq!(rep["r_source"], "auto");
-    assert_eq!(num(&rep, "contact_force"), 0.0);
+    assert_eq!(rep.iterations, 0.0);
+    assert_eq!(rep.linear_solves, 0.0);
+    assert!(rep.lambda_error_estimate.is_nan(), "{rep:?}");
+    assert!(rep.criterion.is_nan(), "{rep:?}");
+    assert!(rep.r_estimate.is_nan(), "{rep:?}");
+    assert_eq!(rep.r_source, "auto");
+    assert_eq!(rep.contact_force, 0.0);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -162,7 +163,7 @@ fn an_r_far_outside_the_range_is_named_and_the_report_written() {
     );
     assert_eq!(run.status, Some(3), "stderr:\n{}", run.stderr);
     let rep = failed_report(&run, &dir, 69);
-    let failure = rep["failure"].as_str().unwrap();
+    let failure = rep.failure.as_deref().unwrap();
     for part in [
         "Schur complement",
         "r = 1e-30 (-ubr_r)",
@@ -171,11 +172,11 @@ fn an_r_far_outside_the_range_is_named_and_the_report_written() {
     ] {
         assert!(failure.contains(part), "'{part}' not in: {failure}");
     }
-    assert_eq!(rep["iterations"], 0);
+    assert_eq!(rep.iterations, 0.0);
     // (serde_json's default parsing may be one ulp off.)
-    assert!((num(&rep, "r") / 1e-30 - 1.0).abs() < 1e-12, "{rep}");
-    assert_eq!(rep["r_source"], "option");
-    assert!(rep["lambda_error_estimate"].is_null(), "{rep}");
+    assert!((rep.r / 1e-30 - 1.0).abs() < 1e-12, "{rep:?}");
+    assert_eq!(rep.r_source, "option");
+    assert!(rep.lambda_error_estimate.is_nan(), "{rep:?}");
     // The summary is printed, saying so.
     assert!(run.stdout.contains("NOT converged"), "{}", run.stdout);
     let _ = std::fs::remove_dir_all(&dir);
@@ -203,10 +204,10 @@ fn a_diverged_linear_solve_writes_the_report() {
     );
     assert_eq!(run.status, Some(3), "stderr:\n{}", run.stderr);
     let rep = failed_report(&run, &dir, 69);
-    let failure = rep["failure"].as_str().unwrap();
+    let failure = rep.failure.as_deref().unwrap();
     assert!(failure.contains("DIVERGED_ITS"), "{failure}");
-    assert_eq!(rep["iterations"], 0);
-    assert!(rep["lambda_error_estimate"].is_null(), "{rep}");
-    assert!(rep["r_estimate"].is_null(), "{rep}");
+    assert_eq!(rep.iterations, 0.0);
+    assert!(rep.lambda_error_estimate.is_nan(), "{rep:?}");
+    assert!(rep.r_estimate.is_nan(), "{rep:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }

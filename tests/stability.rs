@@ -14,136 +14,50 @@
 //! min lambda_n >= -KKT_TOL S;
 //! max(u_n - g) <= KKT_TOL U; at every candidate
 //! min(lambda_n^+ / S, (g - u_n)^+ / U) <= KKT_TOL; the friction bound exceeded
-//! by at most KKT_TOL S; lambda_t along u_t at slip nodes; the contact force
-//! equal to the load.
+//! by at most KKT_TOL S; lambda_t along u_t at slip nodes (Coulomb: the
+//! law checked from the CSV, |lambda_t| <= nu_f lambda_n, |lambda_t| = nu_f
+//! lambda_n where the node slips). The total contact force is not evidence:
+//! it equals the load at every iterate (the stresses are -sigma(u^k)).
 mod common;
 use common::*;
 
-use serde_json::Value;
-use std::collections::HashMap;
 use std::sync::OnceLock;
-use std::time::Instant;
 
 const KKT_TOL: f64 = 1e-3;
 const EQ_TOL: f64 = 1e-8;
-const TIMEOUT_S: u32 = 120;
+const TIMEOUT_S: u64 = 120;
 const H442: &str = "meshes/hertz_442.msh";
 const B198: &str = "meshes/block3d_198.msh";
-/// Hertz scenes: the traction on the top edge, and the load on the quarter.
+/// Hertz scenes: the traction on the top edge.
 const HERTZ_S: f64 = 100.0;
-const HERTZ_LOAD: f64 = 800.0;
 const HERTZ_U: f64 = 0.4;
 /// block3d: E x (top displacement / height), and the top displacement.
 const BLOCK_S: f64 = 0.2e6;
 const BLOCK_U: f64 = 0.2;
-/// What a clear message about a body that nothing holds mentions.
-const FREE_WORDS: [&str; 16] = [
-    "rigid",
-    "free to move",
-    "free to translate",
-    "pull the body off",
-    "floating",
-    "not held",
-    "unsupported",
-    "unbounded",
-    "no equilibrium",
-    "unbalanced",
-    "not balanced",
-    "singular",
-    "drift",
-    "never touch",
-    "moves away",
-    "not supported",
-];
-
-/// One run: exit status (None: killed by the timeout), the texts it printed
-/// and wrote.
+/// One run (`status` None: killed by the timeout) and the scene's nominal
+/// displacement.
 struct Case {
-    name: String,
-    status: Option<i32>,
-    stdout: String,
-    stderr: String,
-    report_text: Option<String>,
-    csv_text: Option<String>,
-    seconds: f64,
-    /// The scene's nominal displacement.
+    out: Outputs,
     u0: f64,
 }
 
-impl Case {
-    fn report(&self) -> Value {
-        serde_json::from_str(
-            self.report_text
-                .as_deref()
-                .unwrap_or_else(|| panic!("{}: no report\n{}", self.name, self.stderr)),
-        )
-        .unwrap_or_else(|e| panic!("{}: report is not JSON: {e}", self.name))
-    }
-    /// The contact CSV's rows.
-    fn rows(&self) -> Vec<Row> {
-        parse_rows(
-            self.csv_text
-                .as_deref()
-                .unwrap_or_else(|| panic!("{}: no contact CSV", self.name)),
-        )
-    }
-    fn context(&self) -> String {
-        format!(
-            "{} (exit {:?}, {:.1} s)\nstdout:\n{}\nstderr:\n{}",
-            self.name, self.status, self.seconds, self.stdout, self.stderr
-        )
+impl std::ops::Deref for Case {
+    type Target = Outputs;
+    fn deref(&self) -> &Outputs {
+        &self.out
     }
 }
 
 /// Runs `mpirun -n ranks ubr-petsc args -report -contact_output` under a
 /// timeout, from the repository root.
 fn run(name: &str, ranks: usize, args: &[&str]) -> Case {
-    let dir = scratch(&format!("stability-{name}"));
-    let rep = dir.join("report.json");
-    let csv = dir.join("contact.csv");
-    let t = Instant::now();
-    let (mut cmd, _session) = mpi_command("timeout");
-    let out = cmd
-        .args([
-            "-k",
-            "10",
-            &TIMEOUT_S.to_string(),
-            "mpirun",
-            "-n",
-            &ranks.to_string(),
-            BIN,
-        ])
-        .args(args)
-        .args([
-            "-report",
-            rep.to_str().unwrap(),
-            "-contact_output",
-            csv.to_str().unwrap(),
-        ])
-        .output()
-        .expect("timeout + mpirun run");
-    let seconds = t.elapsed().as_secs_f64();
-    let code = out.status.code();
-    let case = Case {
-        name: name.to_string(),
-        status: if code == Some(124) || code == Some(137) {
-            None
-        } else {
-            code
-        },
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-        report_text: std::fs::read_to_string(&rep).ok(),
-        csv_text: std::fs::read_to_string(&csv).ok(),
-        seconds,
-        u0: if args.iter().any(|a| a.contains("block3d")) {
-            BLOCK_U
-        } else {
-            HERTZ_U
-        },
+    let out = run_outputs(&format!("stability-{name}"), ranks, args, Some(TIMEOUT_S));
+    let u0 = if args.iter().any(|a| a.contains("block3d")) {
+        BLOCK_U
+    } else {
+        HERTZ_U
     };
-    let _ = std::fs::remove_dir_all(&dir);
-    case
+    Case { out, u0 }
 }
 
 fn hertz<'a>(options: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
@@ -206,19 +120,19 @@ fn assert_never_broken(c: &Case) {
     );
     let s = c.status.unwrap();
     assert!(matches!(s, 0 | 2 | 3), "crash: {}", c.context());
-    assert!(!c.stderr.contains("panicked"), "panic: {}", c.context());
+    assert!(!c.run.stderr.contains("panicked"), "panic: {}", c.context());
     for (what, text) in [
         ("report", c.report_text.as_deref().unwrap_or("")),
         ("contact CSV", c.csv_text.as_deref().unwrap_or("")),
-        ("stdout", &c.stdout),
-        ("stderr", &c.stderr),
+        ("stdout", &c.run.stdout),
+        ("stderr", &c.run.stderr),
     ] {
         if let Some(w) = nonfinite_word(text) {
             panic!("'{w}' in the {what}: {}", c.context());
         }
     }
     if s == 3 {
-        let msg = c.stderr.to_ascii_lowercase();
+        let msg = c.run.stderr.to_ascii_lowercase();
         let line = msg
             .lines()
             .find(|l| l.contains("not converged:"))
@@ -234,83 +148,43 @@ fn assert_never_broken(c: &Case) {
             "exit 3 without how far it got: {}",
             c.context()
         );
-        assert_eq!(
-            c.report()["converged"],
-            Value::Bool(false),
-            "{}",
-            c.context()
-        );
+        assert!(!c.report().converged, "{}", c.context());
     }
     if s == 2 {
         assert!(
-            c.stderr.contains("error:"),
+            c.run.stderr.contains("error:"),
             "exit 2 without an error line: {}",
             c.context()
         );
     }
     if s == 0 {
-        assert_eq!(
-            c.report()["converged"],
-            Value::Bool(true),
-            "{}",
-            c.context()
-        );
+        assert!(c.report().converged, "{}", c.context());
     }
 }
 
-fn n(r: &Value, key: &str) -> f64 {
-    r[key].as_f64().unwrap_or(f64::NAN)
-}
-
-fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
-}
-
-/// The discrete optimality conditions of a converged run.
-fn assert_optimal(c: &Case, s0: f64, load: Option<f64>, eq_tol: f64) {
+/// The discrete optimality conditions of a converged run: equilibrium
+/// from the report, Signorini's conditions and Coulomb's law from the CSV.
+fn assert_optimal(c: &Case, s0: f64, eq_tol: f64) {
     let r = c.report();
     let rows = c.rows();
-    let peak = rows.iter().map(|x| x.lambda_n).fold(0.0, f64::max);
-    let s = n(&r, "peak_pressure").max(s0).max(peak);
-    let gaps: HashMap<u64, f64> = gaps(c);
-    let u = rows.iter().map(|x| x.un.abs()).fold(c.u0, f64::max);
+    let sc = Scales::of(&rows, s0.max(r.peak_pressure), c.u0);
     let ctx = c.context();
-    let eq = n(&r, "equilibrium_residual_rel");
+    let eq = r.equilibrium_residual_rel;
     assert!(eq <= eq_tol, "equilibrium residual {eq:e}: {ctx}");
-    let min_l = n(&r, "min_lambda_n");
-    assert!(
-        min_l >= -KKT_TOL * s,
-        "min lambda_n {min_l:e}, S {s:e}: {ctx}"
-    );
-    let pen = n(&r, "max_penetration");
-    assert!(pen <= KKT_TOL * u, "penetration {pen:e}, U {u:e}: {ctx}");
-    for x in &rows {
-        let open = (gaps[&x.node] - x.un).max(0.0) / u;
-        let press = x.lambda_n.max(0.0) / s;
-        assert!(
-            open.min(press) <= KKT_TOL,
-            "complementarity at node {}: lambda_n {:e} with g - u_n {:e} (S {s:e}, U {u:e}): {ctx}",
-            x.node,
-            x.lambda_n,
-            gaps[&x.node] - x.un
-        );
-    }
-    match r["friction"].as_str() {
-        Some("coulomb") => {
-            let nu_f = n(&r, "friction_coefficient");
-            for x in &rows {
-                let exc = norm(&x.lambda_t) - nu_f * x.lambda_n.max(0.0);
-                assert!(
-                    exc <= KKT_TOL * s,
-                    "node {}: |lambda_t| over nu_f lambda_n by {exc:e}: {ctx}",
-                    x.node
-                );
-            }
+    check_signorini(&rows, sc, KKT_TOL)
+        .unwrap_or_else(|e| panic!("{e} (S {}, U {}): {ctx}", sc.s, sc.u));
+    match r.friction.as_str() {
+        "coulomb" => {
+            let nu_f = r.friction_coefficient;
+            // Sticking nodes may still creep at this tolerance: the law's
+            // bound and the slip nodes at it only (slip_tol 1).
+            check_friction(&rows, sc, KKT_TOL, 1.0, |x| nu_f * x.lambda_n.max(0.0))
+                .unwrap_or_else(|e| panic!("Coulomb: {e}: {ctx}"));
         }
-        Some("tresca") => {
-            let exc = n(&r, "max_friction_excess");
+        "tresca" => {
+            let exc = r.max_friction_excess;
             assert!(
-                exc <= KKT_TOL * s,
+                exc <= KKT_TOL * sc.s,
                 "Tresca bound exceeded by {exc:e}: {ctx}"
             );
         }
@@ -318,7 +192,7 @@ fn assert_optimal(c: &Case, s0: f64, load: Option<f64>, eq_tol: f64) {
     }
     for x in rows.iter().filter(|x| x.status == "slip") {
         let (lt, ut) = (norm(&x.lambda_t), norm(&x.ut));
-        if lt > KKT_TOL * s && ut > 1e-9 * u {
+        if lt > KKT_TOL * sc.s && ut > 1e-9 * sc.u {
             let dot: f64 = x.lambda_t.iter().zip(&x.ut).map(|(a, b)| a * b).sum();
             assert!(
                 dot >= 0.99 * lt * ut,
@@ -329,80 +203,20 @@ fn assert_optimal(c: &Case, s0: f64, load: Option<f64>, eq_tol: f64) {
             );
         }
     }
-    if let Some(load) = load {
-        let f = n(&r, "contact_force");
-        assert!(
-            (f - load).abs() <= 1e-6 * load.abs().max(1e-300) + 1e-12 * s,
-            "contact force {f} vs load {load}: {ctx}"
-        );
-    }
 }
 
-/// Gaps by node, from the CSV's gap column.
-fn gaps(c: &Case) -> HashMap<u64, f64> {
-    c.csv_text
-        .as_deref()
-        .unwrap()
-        .lines()
-        .skip(1)
-        .map(|l| {
-            let f: Vec<&str> = l.split(',').collect();
-            (f[0].parse().unwrap(), f[5].parse().unwrap())
-        })
-        .collect()
-}
-
-/// Converged with the optimality conditions, or exit 3 (with its message).
-fn assert_converged_or_3(c: &Case, s0: f64, load: Option<f64>) {
-    assert_never_broken(c);
-    match c.status {
-        Some(0) => assert_optimal(c, s0, load, EQ_TOL),
-        Some(3) => {}
-        _ => panic!("exit 2 on a valid scene: {}", c.context()),
-    }
-}
-
-fn assert_converged(c: &Case, s0: f64, load: Option<f64>) {
+fn assert_converged(c: &Case, s0: f64) {
     assert_never_broken(c);
     assert_eq!(c.status, Some(0), "no converged answer: {}", c.context());
-    assert_optimal(c, s0, load, EQ_TOL);
+    assert_optimal(c, s0, EQ_TOL);
 }
 
-/// Exit 2 or 3 with a message mentioning one of `words` (case-insensitive).
-fn assert_clear_error(c: &Case, words: &[&str]) {
+/// Exit 2 (an ill-posed scene is bad input) with one error line that
+/// carries `what`.
+fn assert_ill_posed(c: &Case, what: &str) {
     assert_never_broken(c);
-    assert!(
-        matches!(c.status, Some(2) | Some(3)),
-        "no error: {}",
-        c.context()
-    );
-    let msg = c.stderr.to_ascii_lowercase();
-    assert!(
-        words.iter().any(|w| msg.contains(w)),
-        "the message does not say why (none of {words:?}): {}",
-        c.context()
-    );
-}
-
-/// max |lambda_n - lambda_n^ref| / max lambda_n^ref, tangential stresses included.
-fn pressure_deviation(a: &Case, reference: &Case) -> f64 {
-    let (ra, rb) = (a.rows(), reference.rows());
-    assert_eq!(ra.len(), rb.len());
-    let peak = rb.iter().map(|x| x.lambda_n).fold(0.0, f64::max);
-    ra.iter()
-        .zip(&rb)
-        .map(|(x, y)| {
-            assert_eq!(x.node, y.node);
-            let dt: Vec<f64> = x
-                .lambda_t
-                .iter()
-                .zip(&y.lambda_t)
-                .map(|(p, q)| p - q)
-                .collect();
-            (x.lambda_n - y.lambda_n).abs().max(norm(&dt))
-        })
-        .fold(0.0, f64::max)
-        / peak
+    let line = c.run.refused(&c.name, 2, &[what]);
+    assert!(line.starts_with("error: ill-posed scene: "), "{line}");
 }
 
 /// A tightly converged run of a Hertz scene at its own r: the discrete solution.
@@ -421,14 +235,21 @@ fn tight(options: &'static str) -> &'static Case {
             1,
             &hertz(options, &["-ubr_rtol", "1e-10", "-ubr_fp_rtol", "1e-10"]),
         );
-        assert_converged(&c, HERTZ_S, Some(HERTZ_LOAD));
+        assert_converged(&c, HERTZ_S);
         c
     })
 }
 
-/// r = rho = r_over_e x E on hertz_442: a converged answer is optimal and
-/// within 5% of the peak pressure from the discrete solution, or exit 3.
-fn r_case(options: &'static str, r_over_e: f64, max_it: &str) {
+/// r = rho = r_over_e x E on hertz_442, at most `max_it` iterations: exit
+/// 0, optimal, and the contact stresses within `tol` of the peak pressure
+/// from the discrete solution (the paper's stopping test bounds the change
+/// of an iterate, not its error: measured 1.0% (UBR-C) and 1.5% (UBR-TF)
+/// at r = 0.01 E, 4.2e-4 or less at r = E and above).
+///
+/// A wrong answer fails it: `UBR_TEST_PERTURB=stability-hertz-paper-r1=1.01
+/// cargo test --release --test stability r_ubr_c_equal_e` ends "r = 1 E:
+/// stresses 9.93e-3 of the peak from the converged solution" (tolerance 2e-3).
+fn r_case(options: &'static str, r_over_e: f64, max_it: &str, tol: f64) {
     let r = format!("{}", 2000.0 * r_over_e);
     let c = run(
         &format!("{}-r{r_over_e}", options.trim_start_matches("options/")),
@@ -438,65 +259,87 @@ fn r_case(options: &'static str, r_over_e: f64, max_it: &str) {
             &["-ubr_r", &r, "-ubr_rho", &r, "-ubr_max_it", max_it],
         ),
     );
-    assert_converged_or_3(&c, HERTZ_S, Some(HERTZ_LOAD));
-    if c.status == Some(0) {
-        let dev = pressure_deviation(&c, tight(options));
-        assert!(
-            dev <= 0.05,
-            "r = {r_over_e} E: pressures {dev:.2e} of the peak from the converged solution: {}",
-            c.context()
-        );
-    }
+    assert_converged(&c, HERTZ_S);
+    let dev = max_stress_gap(&c.rows(), &tight(options).rows());
+    assert!(
+        dev <= tol,
+        "r = {r_over_e} E: stresses {dev:.2e} of the peak from the converged solution: {}",
+        c.context()
+    );
 }
 
 #[test]
 fn r_ubr_c_small() {
-    r_case("options/hertz-paper", 1e-2, "20000");
+    r_case("options/hertz-paper", 1e-2, "20000", 0.02);
 }
 
 #[test]
 fn r_ubr_c_equal_e() {
-    r_case("options/hertz-paper", 1.0, "20000");
+    r_case("options/hertz-paper", 1.0, "20000", 2e-3);
 }
 
-/// Large r: the iteration crawls, so a relative-change test can stop early
-/// (the build of 14:29 stopped at 11935 iterations with open nodes carrying
-/// 1.1% of the peak pressure, lambda_n = r times the last change of u_n, and
-/// the pressures 7% of the peak from the discrete solution). Converged must
-/// mean optimal; else exit 3 (the cap 12500 keeps the test short).
+/// Large r: the iteration crawls (31087 iterations at r = 100 E, 1 s), so
+/// a relative-change test could stop early (the build of 14:29 stopped at
+/// 11935 iterations with open nodes carrying 1.1% of the peak pressure, the
+/// pressures 7% of the peak from the discrete solution). Converged must
+/// mean optimal and near the discrete solution.
 #[test]
 fn r_ubr_c_large() {
-    r_case("options/hertz-paper", 100.0, "12500");
+    r_case("options/hertz-paper", 100.0, "40000", 2e-3);
 }
 
-/// Too large an r: no convergence within -ubr_max_it, exit 3.
+/// Too large an r: r = 1000 E does not converge in any number of iterations
+/// a test can afford (still 5.7e-5 from the paper's 1e-5 when it stalls,
+/// after 7858 iterations, with -ubr_max_it 400000 too): the documented
+/// failure, exit 3 with the stall named and r placed against r0, for this
+/// r only.
 #[test]
 fn r_ubr_c_huge() {
-    r_case("options/hertz-paper", 1e3, "3000");
+    let c = run(
+        "hertz-paper-r1000",
+        1,
+        &hertz(
+            "options/hertz-paper",
+            &["-ubr_r", "2e6", "-ubr_rho", "2e6", "-ubr_max_it", "20000"],
+        ),
+    );
+    assert_never_broken(&c);
+    assert_eq!(c.status, Some(3), "{}", c.context());
+    let line = c
+        .run
+        .stderr
+        .lines()
+        .find(|l| l.contains("not converged:"))
+        .unwrap();
+    assert!(
+        line.contains("stalled") && line.contains("far outside the range"),
+        "{}",
+        c.context()
+    );
 }
 
 #[test]
 fn r_ubr_tf_small() {
-    r_case("options/hertz-tresca-paper", 1e-2, "20000");
+    r_case("options/hertz-tresca-paper", 1e-2, "20000", 0.02);
 }
 
 /// r = 10 E (the build of 14:29 stopped at 2091 iterations with open nodes at
 /// 1.1e-3 of the peak pressure, just over the tolerance; bench/stability runs 100 E).
 #[test]
 fn r_ubr_tf_large() {
-    r_case("options/hertz-tresca-paper", 10.0, "20000");
+    r_case("options/hertz-tresca-paper", 10.0, "20000", 2e-3);
 }
 
 #[test]
 fn r_cf_fp_equal_e() {
-    r_case("options/hertz-coulomb-paper", 1.0, "20000");
+    r_case("options/hertz-coulomb-paper", 1.0, "20000", 2e-3);
 }
 
 /// CF-FP at r = 10 E (bench/stability runs 100 E and 1000 E: 3e4 and 3e5
 /// Tresca iterations, too long here).
 #[test]
 fn r_cf_fp_large() {
-    r_case("options/hertz-coulomb-paper", 10.0, "20000");
+    r_case("options/hertz-coulomb-paper", 10.0, "20000", 2e-3);
 }
 
 /// Near incompressibility P1 locks (Hertz error 2% at nu = 0.3, 21% at 0.499 on
@@ -509,8 +352,8 @@ fn poisson_ratio_near_one_half() {
             1,
             &hertz("options/hertz-paper", &["-nu", nu]),
         );
-        assert_converged(&c, HERTZ_S, Some(HERTZ_LOAD));
-        let err = n(&c.report(), "pressure_error_rel");
+        assert_converged(&c, HERTZ_S);
+        let err = c.report().pressure_error_rel;
         assert!(err.is_finite() && err < 1.0, "nu {nu}: Hertz error {err}");
         println!("nu = {nu}: Hertz pressure error {:.2}%", 100.0 * err);
     }
@@ -546,7 +389,7 @@ fn unit_invariance() {
             .collect::<Vec<String>>();
             let args: Vec<&str> = a.iter().map(String::as_str).collect();
             let c = run(&format!("units{f:e}"), 1, &hertz(options, &args));
-            assert_converged(&c, HERTZ_S * f, Some(HERTZ_LOAD * f));
+            assert_converged(&c, HERTZ_S * f);
             c
         };
         let base = scaled(1.0);
@@ -560,13 +403,13 @@ fn unit_invariance() {
             let c = scaled(f);
             let r = c.report();
             assert_eq!(
-                r["iterations"],
-                rb["iterations"],
+                r.iterations,
+                rb.iterations,
                 "{options} x{f:e}: {}",
                 c.context()
             );
             assert_eq!(
-                r["fixed_point_iterations"], rb["fixed_point_iterations"],
+                r.fixed_point_iterations, rb.fixed_point_iterations,
                 "{options} x{f:e}"
             );
             for (x, y) in c.rows().iter().zip(&b) {
@@ -607,7 +450,7 @@ fn no_contact() {
         1,
         &hertz("options/hertz-paper", &["-obstacle_point", "0,-100"]),
     );
-    assert_converged(&c, HERTZ_S, Some(HERTZ_LOAD));
+    assert_converged(&c, HERTZ_S);
     let c = run(
         "far-noload",
         1,
@@ -616,15 +459,15 @@ fn no_contact() {
             &["-obstacle_point", "0,-100", "-traction_top", "0,0"],
         ),
     );
-    assert_converged(&c, HERTZ_S, Some(0.0));
-    assert_eq!(n(&c.report(), "contact_active"), 0.0);
+    assert_converged(&c, HERTZ_S);
+    assert_eq!(c.report().contact_active, 0.0);
     let c = run(
         "block-far",
         2,
         &block("options/block3d-paper", &["-obstacle_center", "-0.3,0,-10"]),
     );
-    assert_converged(&c, BLOCK_S, None);
-    assert_eq!(n(&c.report(), "contact_active"), 0.0, "{}", c.context());
+    assert_converged(&c, BLOCK_S);
+    assert_eq!(c.report().contact_active, 0.0, "{}", c.context());
     let c = run(
         "block-far-cf",
         1,
@@ -633,7 +476,7 @@ fn no_contact() {
             &["-obstacle_center", "-0.3,0,-10"],
         ),
     );
-    assert_converged(&c, BLOCK_S, None);
+    assert_converged(&c, BLOCK_S);
 }
 
 /// The block with Tresca friction (bound from a frictionless solve) and the
@@ -652,8 +495,8 @@ fn no_contact_block_tresca() {
             &["-obstacle_center", "-0.3,0,-10"],
         ),
     );
-    assert_converged(&c, BLOCK_S, None);
-    assert_eq!(n(&c.report(), "contact_active"), 0.0, "{}", c.context());
+    assert_converged(&c, BLOCK_S);
+    assert_eq!(c.report().contact_active, 0.0, "{}", c.context());
 }
 
 /// A flat punch: the block's bottom face on the plane z = -0.5 (gaps 0) or
@@ -670,9 +513,9 @@ fn contact_everywhere() {
             2,
             &block(options, &["-obstacle", "plane", "-obstacle_point", z]),
         );
-        assert_converged(&c, BLOCK_S, None);
+        assert_converged(&c, BLOCK_S);
         let r = c.report();
-        assert_eq!(r["contact_active"], r["contact_nodes"], "{}", c.context());
+        assert_eq!(r.contact_active, r.contact_nodes, "{}", c.context());
     }
 }
 
@@ -681,7 +524,7 @@ fn contact_everywhere() {
 fn initial_penetration() {
     for options in ["options/hertz-paper", "options/hertz-coulomb-paper"] {
         let c = run("pen", 1, &hertz(options, &["-obstacle_point", "0,0.05"]));
-        assert_converged(&c, HERTZ_S, Some(HERTZ_LOAD));
+        assert_converged(&c, HERTZ_S);
     }
 }
 
@@ -704,8 +547,8 @@ fn single_contact_node() {
             ],
         ),
     );
-    assert_converged(&c, HERTZ_S, Some(HERTZ_LOAD));
-    assert_eq!(n(&c.report(), "contact_nodes"), 1.0);
+    assert_converged(&c, HERTZ_S);
+    assert_eq!(c.report().contact_nodes, 1.0);
     let c = run(
         "single3d",
         2,
@@ -721,8 +564,8 @@ fn single_contact_node() {
             ],
         ),
     );
-    assert_converged(&c, BLOCK_S, None);
-    assert_eq!(n(&c.report(), "contact_nodes"), 1.0);
+    assert_converged(&c, BLOCK_S);
+    assert_eq!(c.report().contact_nodes, 1.0);
 }
 
 #[test]
@@ -734,7 +577,7 @@ fn friction_coefficients() {
                 1,
                 &hertz(options, &["-friction_coefficient", nu_f]),
             );
-            assert_converged(&c, HERTZ_S, Some(HERTZ_LOAD));
+            assert_converged(&c, HERTZ_S);
         }
     }
 }
@@ -753,7 +596,7 @@ fn sliver_meshes() {
             "meshes/stability_sliver.msh",
         ],
     );
-    assert_converged(&c, HERTZ_S, Some(HERTZ_LOAD));
+    assert_converged(&c, HERTZ_S);
     let c = run(
         "sliver3d",
         1,
@@ -764,7 +607,7 @@ fn sliver_meshes() {
             "meshes/stability_sliver3d.msh",
         ],
     );
-    assert_converged(&c, BLOCK_S, None);
+    assert_converged(&c, BLOCK_S);
     let c = run(
         "sliver-roundoff",
         1,
@@ -777,7 +620,7 @@ fn sliver_meshes() {
     );
     assert_never_broken(&c);
     assert_eq!(c.status, Some(0), "{}", c.context());
-    assert_optimal(&c, HERTZ_S, Some(HERTZ_LOAD), 1e-5);
+    assert_optimal(&c, HERTZ_S, 1e-5);
 }
 
 /// meshes/stability_inverted.msh: triangle 390 (nodes 330 331 189) is listed
@@ -800,9 +643,9 @@ fn inverted_element_is_bad_input() {
         let c = run("inverted", 2, &["-options_file", options, "-mesh", mesh]);
         assert_never_broken(&c);
         assert_eq!(c.status, Some(2), "{}", c.context());
-        assert!(c.stderr.contains("inverted"), "{}", c.context());
+        assert!(c.run.stderr.contains("inverted"), "{}", c.context());
         assert!(
-            c.stderr.contains(&format!("(nodes {nodes})")),
+            c.run.stderr.contains(&format!("(nodes {nodes})")),
             "{}",
             c.context()
         );
@@ -825,15 +668,18 @@ fn inverted_element_named_by_its_file_tag() {
     );
     assert_never_broken(&c);
     assert!(
-        c.stderr.contains(" 390 ") || c.stderr.contains(" 390,") || c.stderr.contains(" 390:"),
+        c.run.stderr.contains(" 390 ")
+            || c.run.stderr.contains(" 390,")
+            || c.run.stderr.contains(" 390:"),
         "the message does not name element 390: {}",
         c.context()
     );
 }
 
 /// The Hertz body pulled away from the obstacle: nothing holds it, no
-/// equilibrium exists. A clear error, not a long run that ends in a generic
-/// "stopped after N iterations".
+/// equilibrium exists. Refused before the solve as ill-posed (exit 2, the
+/// contract's bad input) with the reason, not a long run that ends in a
+/// generic "stopped after N iterations".
 #[test]
 fn free_body_pulled_away_is_a_clear_error() {
     let c = run(
@@ -844,7 +690,7 @@ fn free_body_pulled_away_is_a_clear_error() {
             &["-traction_top", "0,100", "-ubr_max_it", "2000"],
         ),
     );
-    assert_clear_error(&c, &FREE_WORDS);
+    assert_ill_posed(&c, "the loads pull the body off the obstacle");
 }
 
 /// The same with -ubr_rtol 1e-3: the multiplier of the drifting body grows like
@@ -892,12 +738,12 @@ fn free_body_pulled_away_never_converges_cf_fp() {
 }
 
 /// A sideways load on a body that nothing holds sideways (frictionless, no
-/// Dirichlet data in x): no equilibrium exists. Today an exit 0 with an
-/// equilibrium residual of 25% (49% on two ranks).
+/// Dirichlet data in x): no equilibrium exists (it was once an exit 0 with an
+/// equilibrium residual of 25%). Refused as ill-posed, the free direction named.
 #[test]
 fn free_body_loaded_sideways_is_a_clear_error() {
     let c = run("side", 1, &hertz_free_x("10,-100"));
-    assert_clear_error(&c, &FREE_WORDS);
+    assert_ill_posed(&c, "free to translate along x");
 }
 
 /// Nothing holds the body in x, even though the load is vertical: the
@@ -911,7 +757,7 @@ fn free_tangential_translation() {
         assert_never_broken(&c);
         assert_eq!(c.status, Some(2), "{}", c.context());
         assert!(
-            c.stderr.contains("free to translate along x"),
+            c.run.stderr.contains("free to translate along x"),
             "{}",
             c.context()
         );

@@ -280,24 +280,18 @@ fn friction_checks_are_one_and_zero_on_a_coulomb_block() {
         let mut args = vec!["-mesh", &mesh, "-E", "1000", "-nu", "0.3"];
         args.extend_from_slice(&ball);
         args.extend_from_slice(friction);
-        let (run, r, _) = solve("trial-friction-run", 2, &args);
+        let (run, r, _) = solve_rows("trial-friction-run", 2, &args);
         let what = friction[1];
+        assert!(r.stick_nodes > 0.0 && r.slip_nodes > 0.0, "{what}");
+        assert!(r.contact_active < r.contact_nodes, "{what}");
         assert!(
-            num(&r, "stick_nodes") > 0.0 && num(&r, "slip_nodes") > 0.0,
-            "{what}"
-        );
-        assert!(
-            num(&r, "contact_active") < num(&r, "contact_nodes"),
-            "{what}"
-        );
-        assert!(
-            num(&r, "min_slip_alignment") >= 1.0 - 1e-12,
+            r.min_slip_alignment >= 1.0 - 1e-12,
             "{what}: cos {}",
-            num(&r, "min_slip_alignment")
+            r.min_slip_alignment
         );
-        assert!(num(&r, "max_friction_excess_rel") <= 1e-5, "{what}");
+        assert!(r.max_friction_excess_rel <= 1e-5, "{what}");
         // At the default tolerance on lambda (1e-3) the sticking nodes slip a little.
-        assert!(num(&r, "max_stick_slip_rel") <= 1e-3, "{what}");
+        assert!(r.max_stick_slip_rel <= 1e-3, "{what}");
         assert!(
             run.stdout
                 .contains("min cos(u_t, lambda_t) at slip nodes 1.000000000000"),
@@ -316,14 +310,14 @@ fn residuals_are_scaled_when_nothing_touches() {
     let dir = scratch("trial-scaled");
     let mesh = gmsh(&dir, "column", COLUMN);
     let args = column(&mesh, &[]);
-    let (run, r, _) = solve("trial-scaled-run", 2, &args);
-    assert_eq!(num(&r, "contact_active"), 0.0);
-    for key in [
-        "min_lambda_n_rel",
-        "max_penetration_rel",
-        "complementarity_rel",
+    let (run, r, _) = solve_rows("trial-scaled-run", 2, &args);
+    assert_eq!(r.contact_active, 0.0);
+    for (key, v) in [
+        ("min_lambda_n_rel", r.min_lambda_n_rel),
+        ("max_penetration_rel", r.max_penetration_rel),
+        ("complementarity_rel", r.complementarity_rel),
     ] {
-        assert!(num(&r, key).abs() <= 1e-5, "{key} {}", num(&r, key));
+        assert!(v.abs() <= 1e-5, "{key} {v}");
     }
     assert!(
         run.stdout.contains("relative to the pressure scale"),
@@ -525,14 +519,9 @@ fn gravity_reaction_is_the_weight() {
     let dir = scratch("trial-gravity");
     let mesh = gmsh(&dir, "column", COLUMN);
     let args = column(&mesh, &["-ubr_lambda_rtol", "1e-8"]);
-    let (run, r, _) = solve("trial-gravity-run", 2, &args);
+    let (run, r, _) = solve_rows("trial-gravity-run", 2, &args);
     let weight = 2.0 * 9.81 * 4.0;
-    let reaction: Vec<f64> = r["reactions"]["base"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|v| v.as_f64().unwrap())
-        .collect();
+    let reaction = &r.reactions["base"];
     assert!(reaction[0].abs() <= 1e-10 * weight, "{reaction:?}");
     assert!(
         (reaction[1] - weight).abs() <= 1e-10 * weight,
@@ -597,12 +586,7 @@ fn pressure_on_a_ring_matches_lame() {
     );
     // The pressure's resultant on the quarter: p a along x and along y,
     // taken by the symmetry edges.
-    let load: Vec<f64> = r["load"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|v| v.as_f64().unwrap())
-        .collect();
+    let load = &r.load;
     assert!(
         (load[0] - p * a).abs() < 1e-3 * p * a && (load[1] - p * a).abs() < 1e-3 * p * a,
         "{load:?}"
@@ -614,28 +598,16 @@ fn pressure_on_a_ring_matches_lame() {
 /// reactions and the loads, to round-off.
 #[test]
 fn hertz_contact_force_balances_reactions_and_loads() {
-    let (_, r, _) = solve(
+    let (_, r, _) = solve_rows(
         "trial-balance",
         2,
         &hertz_args("meshes/hertz_1692.msh", &[]),
     );
-    let vec = |key: &str| -> Vec<f64> {
-        r[key]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|v| v.as_f64().unwrap())
-            .collect()
-    };
-    let (contact, load) = (vec("contact_force_vector"), vec("load"));
-    let reactions = r["reactions"].as_object().unwrap();
+    let (contact, load) = (&r.contact_force_vector, &r.load);
+    let reactions = &r.reactions;
     assert_eq!(reactions.len(), 1);
     for c in 0..2 {
-        let sum: f64 = reactions
-            .values()
-            .map(|v| v[c].as_f64().unwrap())
-            .sum::<f64>()
-            + load[c];
+        let sum: f64 = reactions.values().map(|v| v[c]).sum::<f64>() + load[c];
         assert!(
             (contact[c] + sum).abs() <= 1e-10 * 800.0,
             "component {c}: contact {} vs reactions + loads {sum}",
@@ -665,15 +637,15 @@ fn two_contact_surfaces_agree_with_their_union() {
     two[i] = "base_a,base_b";
     let (_, r1, c1) = solve_rows("trial-one", 2, &one);
     let (_, r2, c2) = solve_rows("trial-two-run", 2, &two);
-    assert_eq!(num(&r1, "contact_nodes"), num(&r2, "contact_nodes"));
+    assert_eq!(r1.contact_nodes, r2.contact_nodes);
     assert_eq!(c1.len(), c2.len());
     for (a, b) in c1.iter().zip(&c2) {
         assert_eq!(a.node, b.node);
-        assert!((a.lambda_n - b.lambda_n).abs() <= 1e-9 * num(&r1, "peak_pressure"));
+        assert!((a.lambda_n - b.lambda_n).abs() <= 1e-9 * r1.peak_pressure);
         assert_eq!(a.status, b.status);
     }
-    let f = num(&r1, "contact_force");
-    assert!((f - num(&r2, "contact_force")).abs() <= 1e-10 * f);
+    let f = r1.contact_force;
+    assert!((f - r2.contact_force).abs() <= 1e-10 * f);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -703,7 +675,7 @@ print(len(m.points), sum(len(c.data) for c in m.cells), repr(float(m.point_data[
 p = meshio.read(sys.argv[2])
 print("node_tag" in p.point_data)
 "#;
-    let out = Command::new("/usr/bin/python3")
+    let out = Command::new(python())
         .args([
             "-c",
             script,
@@ -721,10 +693,10 @@ print("node_tag" in p.point_data)
     let r = report(&rep);
     let first: Vec<&str> = text.lines().next().unwrap().split_whitespace().collect();
     let n: f64 = first[0].parse().unwrap();
-    assert_eq!(n, num(&r, "nodes"), "each node once");
-    assert_eq!(first[1].parse::<f64>().unwrap(), num(&r, "elements"));
+    assert_eq!(n, r.nodes, "each node once");
+    assert_eq!(first[1].parse::<f64>().unwrap(), r.elements);
     let pmax: f64 = first[2].parse().unwrap();
-    assert!((pmax - num(&r, "peak_pressure")).abs() <= 1e-12 * pmax);
+    assert!((pmax - r.peak_pressure).abs() <= 1e-12 * pmax);
     assert_eq!(first[3].parse::<f64>().unwrap(), n, "node tags are unique");
     assert_eq!(
         text.lines().nth(1),
