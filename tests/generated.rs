@@ -16,7 +16,7 @@ fn agree(tag: &str, args: &[&str], ranks: &[usize]) {
     split.extend_from_slice(&["-partition", "rcb"]);
     for &n in ranks {
         let (run, rep, other) = solve_rows(&format!("{tag}_{n}"), n, &split);
-        assert_eq!(rep["partition"].as_str(), Some("rcb"), "{tag} on {n}");
+        assert_eq!(rep.partition, "rcb", "{tag} on {n}");
         assert!(
             run.stdout.contains("by recursive coordinate bisection"),
             "{tag} on {n}: {}",

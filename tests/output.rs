@@ -198,6 +198,8 @@ fn sigterm_leaves_no_partial_output() {
         child.try_wait().unwrap().is_none(),
         "the run ended before it was killed"
     );
+    // SAFETY: kill(2) takes plain integers: the pid of the child spawned
+    // above (not yet reaped, so it cannot have been reused) and SIGTERM.
     unsafe {
         libc_kill(child.id() as i32, 15);
     }
