@@ -5,6 +5,8 @@
 //! assemble and factorize, choose r, solve, check, and write the outputs,
 //! each a short method in its `-log_view` stage.
 
+use crate::checks::{self, Deformation, Diagnostics, Forces};
+use crate::comm::{allreduce_count, allreduce_max, allreduce_sum};
 use crate::contact::ContactSet;
 use crate::error::{bad, Error};
 use crate::mesh::{self, distribute, distribute::LocalMesh};
@@ -12,15 +14,12 @@ use crate::options::{self, unused::Unused, Friction, Partitioner, Settings};
 use crate::petsc::{self, Events, Stages};
 use crate::progress;
 use crate::report::{self, files, ContactRow, Results, Times, Totals};
-use crate::solver::checks::{self, Deformation, Diagnostics, Forces};
 use crate::solver::outcome::{self, Solved};
 use crate::solver::surface::UbrState;
 use crate::solver::touching;
 use crate::solver::ubr::UbrOutcome;
-use crate::solver::wellposed::{self, Restraint};
-use crate::solver::{
-    allreduce_count, allreduce_max, allreduce_sum, penalty, ContactTerms, Problem,
-};
+use crate::solver::{penalty, ContactTerms, Problem};
+use crate::wellposed::{self, Restraint};
 use mpi::traits::*;
 use std::time::Instant;
 

@@ -2,10 +2,13 @@
 //! linear elasticity, distributed on PETSc and MPI.
 
 pub mod app;
+pub mod checks;
+pub mod comm;
 pub mod contact;
 pub mod dense;
 pub mod error;
 pub mod fem;
+pub mod linalg;
 pub mod mesh;
 pub mod mumps;
 pub mod options;
@@ -13,5 +16,6 @@ pub mod petsc;
 pub mod progress;
 pub mod report;
 pub mod solver;
+pub mod wellposed;
 
 pub use petsc::{Events, Stages};

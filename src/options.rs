@@ -7,6 +7,7 @@
 //! options that have no effect in the scene, [`unused`] those that nothing
 //! used.
 
+pub mod choices;
 pub mod declared;
 pub mod files;
 pub mod inert;
@@ -14,10 +15,9 @@ pub mod outputs;
 pub mod solver;
 pub mod unused;
 
-pub use crate::contact::obstacle::Obstacle;
 use crate::error::{bad, Error};
 use crate::petsc;
-use crate::solver::stopping::StopRule;
+pub use choices::{Obstacle, StopRule};
 pub use declared::print_help;
 use declared::*;
 use mpi::traits::*;

@@ -8,8 +8,7 @@
 //! included, is named by [`super::unused`].)
 
 use super::declared::*;
-use super::{Friction, Settings, TrescaBound};
-use crate::solver::stopping::StopRule;
+use super::{Friction, Settings, StopRule, TrescaBound};
 
 /// The linear solver the PETSc options ask for, as far as the UBR settings
 /// depend on it.

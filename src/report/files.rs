@@ -5,11 +5,11 @@
 
 use super::vtk::{self, Field, Piece};
 use super::{json, plot, ContactRow, Results};
+use crate::comm::allreduce_max;
 use crate::contact::hertz;
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
 use crate::options::{Friction, Settings};
-use crate::solver::allreduce_max;
 use crate::solver::stopping::StopRule;
 use mpi::traits::*;
 use std::path::Path;

@@ -19,13 +19,12 @@
 //! relative to its max norm) times the outer amplification `1 / (1 - q)`,
 //! q the largest recent ratio of consecutive changes, below tol / 4.
 
-use super::allreduce_max_n;
-use super::allreduce_sum;
 use super::anderson::Anderson;
 use super::stopping::StopRule;
 use super::surface::UbrState;
 use super::ubr::{ubr, UbrControl, UbrOutcome};
 use super::Problem;
+use crate::comm::{allreduce_max_n, allreduce_sum};
 use crate::error::Error;
 use mpi::traits::*;
 

@@ -4,13 +4,14 @@
 
 use super::stopping::StopRule;
 use super::surface::UbrState;
-use super::wellposed::Restraint;
 use super::{cf_fp, penalty, seat, snesvi, ssn, ubr, Problem};
+use crate::comm::{allreduce_max, allreduce_max_n};
 use crate::contact::{hertz, ContactSet};
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
 use crate::options::{Friction, HertzReference, Settings, TrescaBound};
 use crate::petsc::Events;
+use crate::wellposed::Restraint;
 use mpi::traits::*;
 
 /// What the iterations produced, whichever algorithm ran.
@@ -189,7 +190,7 @@ impl BoundError {
             ext[1] = ext[1].max(lt);
             ext[2] = ext[2].max(sf.lambda_n[i].abs());
         }
-        let [slips, lt, ln] = super::allreduce_max_n(world, ext);
+        let [slips, lt, ln] = allreduce_max_n(world, ext);
         if slips == 0.0 {
             return 0.0;
         }
@@ -242,7 +243,7 @@ fn frictionless_bound<C: Communicator>(
         } else {
             0.0
         },
-        max_lambda_c: super::allreduce_max(world, max_lc),
+        max_lambda_c: allreduce_max(world, max_lc),
         nu_f,
         iterations: run.iterations,
     };
@@ -332,7 +333,7 @@ fn drift_limit<C: Communicator>(world: &C, restraint: &Restraint, cs: &ContactSe
     if size == 0.0 {
         return f64::INFINITY;
     }
-    let gap = super::allreduce_max(world, cs.g.iter().fold(0.0f64, |m, g| m.max(g.abs())));
+    let gap = allreduce_max(world, cs.g.iter().fold(0.0f64, |m, g| m.max(g.abs())));
     10.0 * (size + gap)
 }
 

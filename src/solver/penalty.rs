@@ -30,10 +30,11 @@
 //! its multigrid preconditioner.
 
 use super::surface::Surface;
-use super::wellposed::Restraint;
-use super::{allreduce_count, allreduce_max, allreduce_sum, allreduce_sum_vec, Problem};
+use super::Problem;
+use crate::comm::{allreduce_count, allreduce_max, allreduce_sum, allreduce_sum_vec};
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
+use crate::wellposed::Restraint;
 use mpi::traits::*;
 use nalgebra::{DMatrix, SymmetricEigen};
 

@@ -38,10 +38,11 @@
 //! a corner) the approach runs. So the paper's Hertz scene and every scene
 //! that starts touching keep the paper's iterates.
 
-use super::wellposed::Restraint;
-use super::{allreduce_sum_vec, Problem};
+use super::Problem;
+use crate::comm::{allreduce_max_n, allreduce_sum, allreduce_sum_vec};
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
+use crate::wellposed::Restraint;
 use mpi::traits::*;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
@@ -357,8 +358,8 @@ pub fn approach<C: Communicator>(
         }
         approach = approach.max(an.abs());
     }
-    let [approach] = super::allreduce_max_n(world, [approach]);
-    let [touching] = super::allreduce_sum(world, [touching]);
+    let [approach] = allreduce_max_n(world, [approach]);
+    let [touching] = allreduce_sum(world, [touching]);
     Ok(Some(Seat {
         phi_n,
         lambda_n,

@@ -9,8 +9,10 @@
 
 use super::surface::UbrState;
 use super::ubr::UbrOutcome;
-use super::{allreduce_sum, Problem};
+use super::Problem;
+use crate::comm::allreduce_sum;
 use crate::error::{bad, Error};
+use crate::linalg::without_zero_couplings;
 use crate::petsc::{options, Snes};
 use mpi::traits::*;
 
@@ -74,7 +76,7 @@ pub fn snes_vi<C: Communicator>(
             })
         })
     })???;
-    let matrix = super::without_zero_couplings(&problem.lin.matrix, d)?;
+    let matrix = without_zero_couplings(&problem.lin.matrix, d)?;
     let snes = Snes::new_vi(&matrix, &problem.lin.rhs0, &lower, &upper)?;
     let (its, lits) = snes.solve(&state.u)?;
     state.inner_iterations.push(lits);

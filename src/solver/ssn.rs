@@ -12,8 +12,10 @@
 
 use super::surface::UbrState;
 use super::ubr::UbrOutcome;
-use super::{allreduce_sum, linear_solver, Problem};
+use super::Problem;
+use crate::comm::allreduce_sum;
 use crate::error::Error;
+use crate::linalg::{linear_solver, without_zero_couplings};
 use crate::mesh::distribute::LocalMesh;
 use crate::petsc::sys;
 use mpi::traits::*;
@@ -47,7 +49,7 @@ pub fn ssn_c<C: Communicator>(
     let lambda_hat = 0.0;
     // The matrix without the zeroed Dirichlet couplings (as UBR's direct
     // back-end factorizes it); the contact terms go to the nodes' own blocks.
-    let base = super::without_zero_couplings(&problem.lin.matrix, d)?;
+    let base = without_zero_couplings(&problem.lin.matrix, d)?;
     let a = base.duplicate()?;
     let (ksp, description, iterative) = linear_solver(&a, mesh)?;
     let work = problem.lin.rhs0.duplicate()?;

@@ -9,9 +9,9 @@
 //! bounding boxes are tested, against the cells of the other part there:
 //! one gather of those nodes, each rank testing its own cells.
 
-use super::wellposed::Bodies;
-use super::Layout;
+use crate::comm::Layout;
 use crate::mesh::distribute::LocalMesh;
+use crate::wellposed::Bodies;
 use mpi::collective::SystemOperation;
 use mpi::traits::*;
 

@@ -34,7 +34,8 @@ use super::anderson::Anderson;
 use super::deferred::{Candidate, Deferred, Resolution};
 use super::stopping::{paper_change, Accuracy, Progress, StopRule, STALL_ITS};
 use super::surface::{Surface, UbrState};
-use super::{allreduce_max_n, allreduce_sum, mass_norms, Problem};
+use super::{mass_norms, Problem};
+use crate::comm::{allreduce_max, allreduce_max_n, allreduce_sum};
 use crate::contact::{project_normal, project_normal_z, project_tangential, project_tangential_z};
 use crate::error::Error;
 use mpi::collective::SystemOperation;
@@ -334,9 +335,8 @@ pub fn ubr<C: Communicator>(
     let was_condensed = lin.is_condensed();
     let mut last = Sums::default();
     // A zero bound everywhere (a frictionless solve through UBR-TF).
-    let no_friction = friction_bound.is_some_and(|b| {
-        super::allreduce_max(world, b.iter().fold(0.0, |a: f64, &x| a.max(x))) == 0.0
-    });
+    let no_friction = friction_bound
+        .is_some_and(|b| allreduce_max(world, b.iter().fold(0.0, |a: f64, &x| a.max(x))) == 0.0);
     let mut inner_factor = ctl.inner_rtol_factor;
     let mut k = 0;
     while k < ctl.max_it {

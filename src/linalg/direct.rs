@@ -27,8 +27,8 @@
 //! other than 1 for MUMPS' own ordering K (with a Schur complement MUMPS
 //! may replace it by AMD).
 
-use super::surface::Surface;
-use super::Layout;
+use crate::comm::{allreduce_max, allreduce_sum, Layout};
+use crate::contact::surface::Surface;
 use crate::dense::{sym_upper_mv, SpdFactor};
 use crate::error::Error;
 use crate::fem::Adjacency;
@@ -547,7 +547,7 @@ impl Direct {
         let analysis = analysis.and_then(|ordering| {
             if condense && distributed {
                 let failed = mumps.size_distributed_schur().err();
-                let worst = super::allreduce_max(world, failed.unwrap_or(0) as f64);
+                let worst = allreduce_max(world, failed.unwrap_or(0) as f64);
                 if worst > 0.0 {
                     return Err(schur_memory(m, worst as usize));
                 }
@@ -928,7 +928,7 @@ impl Direct {
             }
         })?;
         // Collective: every rank returns, none waits in MUMPS.
-        let [lost] = super::allreduce_sum(world, [if lost { 1.0 } else { 0.0 }]);
+        let [lost] = allreduce_sum(world, [if lost { 1.0 } else { 0.0 }]);
         if lost > 0.0 {
             return Err(Error::Internal(
                 "an entry left out of MUMPS' input is no longer zero".into(),

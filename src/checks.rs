@@ -6,10 +6,8 @@
 //! fixed-point step (its Coulomb bound nu_f lambda_n is then 0): it says
 //! nothing about the friction law, and is left out of its checks.
 
-use super::surface::UbrState;
-use super::{
+use crate::comm::{
     allreduce_count, allreduce_max, allreduce_max_n, allreduce_sum, allreduce_sum_vec,
-    ContactTerms, Problem,
 };
 use crate::contact::ContactSet;
 use crate::error::Error;
@@ -17,6 +15,8 @@ use crate::fem;
 use crate::mesh::distribute::LocalMesh;
 use crate::options::{Friction, Settings};
 use crate::petsc::{sys, Gather, Vector};
+use crate::solver::surface::UbrState;
+use crate::solver::{ContactTerms, Problem};
 use mpi::traits::*;
 
 /// The discrete optimality conditions at the returned iterate.

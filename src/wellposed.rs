@@ -12,9 +12,9 @@
 //! the Dirichlet-eliminated stiffness K: only the augmentation terms
 //! `r B^T W B` hold them in `K + r B^T W B` (the paper's floating Hertz body,
 //! section 4.1's remark). They are returned for the choice of r, whose
-//! spectrum they would otherwise dominate ([`super::penalty`]).
+//! spectrum they would otherwise dominate ([`crate::solver::penalty`]).
 
-use super::{allreduce_sum_vec, Layout};
+use crate::comm::{allreduce_count, allreduce_max_vec, allreduce_sum_vec, Layout};
 use crate::contact::ContactSet;
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
@@ -116,7 +116,7 @@ impl Bodies {
                 }
                 changed
             })?;
-            if super::allreduce_count(world, changed) == 0 {
+            if allreduce_count(world, changed) == 0 {
                 break;
             }
         }
@@ -280,12 +280,6 @@ impl Bodies {
             dir(w, wn)
         )
     }
-}
-
-fn allreduce_max_vec<C: Communicator>(world: &C, v: &[f64]) -> Vec<f64> {
-    let mut out = vec![0.0; v.len()];
-    world.all_reduce_into(v, &mut out[..], mpi::collective::SystemOperation::max());
-    out
 }
 
 /// What holds the bodies: the motions only contact holds (for the choice of
