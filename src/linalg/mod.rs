@@ -9,6 +9,7 @@ pub mod ordering;
 
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
+use crate::options::LinearBackend;
 use crate::petsc::{self, options, sys, Ksp, Matrix, NullSpace, Vector};
 
 /// Default largest number of contact unknowns for the condensed back-end,
@@ -24,30 +25,28 @@ use crate::petsc::{self, options, sys, Ksp, Matrix, NullSpace, Vector};
 /// the sparse solves are cheap and the break-even comes sooner.
 pub const CONDENSE_MAX: [usize; 2] = [2000, 4000];
 
-/// Chooses the default linear solver: a Cholesky factorization by MUMPS,
-/// unless the user picked something else.
-fn default_solver_options(dim: usize) -> Result<(), Error> {
-    let pc = options::get_string("-pc_type")?;
-    let direct = matches!(pc.as_deref(), None | Some("cholesky") | Some("lu"));
-    if direct {
+/// Puts PETSc's defaults of `backend` in the options database: a Cholesky
+/// factorization by MUMPS, unless the user picked something else.
+fn default_solver_options(backend: &LinearBackend, dim: usize) -> Result<(), Error> {
+    if let LinearBackend::Factorization { package, .. } = backend {
         options::set_default("-pc_type", "cholesky")?;
         options::set_default("-ksp_type", "preonly")?;
         options::set_default("-pc_factor_mat_solver_type", "mumps")?;
         // PETSc's MUMPS interface (-ubr_mumps_direct 0; the direct driver,
-        // src/solver/direct.rs, chooses its ordering itself). Debian's
+        // src/linalg/direct.rs, chooses its ordering itself). Debian's
         // MUMPS has no METIS/SCOTCH. Measured here: in 2D AMD factorizes
         // fastest (0.20 s vs PORD 0.33 s at 75k dofs); in 3D PORD's nested
         // dissection halves the factorization (2.0 s vs AMD 4.2 s at 54k dofs).
-        if options::get_string("-pc_factor_mat_solver_type")?.as_deref() == Some("mumps") {
+        if package == "mumps" {
             options::set_default("-mat_mumps_icntl_7", if dim == 3 { "4" } else { "0" })?;
             // Workspace margin over the analysis' estimate: at MUMPS' 20%, 3 of
             // 30 factorizations of a 3D hex + prism mesh on 3 ranks failed for
             // want of workspace (PC_FACTOR_OUTMEMORY); none at 60%.
             options::set_default("-mat_mumps_icntl_14", "60")?;
         }
-    } else {
+    } else if let LinearBackend::Preconditioned { pc, ksp } = backend {
         options::set_default("-ksp_type", "cg")?;
-        if options::get_string("-ksp_type")?.as_deref() == Some("cg") {
+        if ksp == "cg" {
             // Converge on the true residual, not the preconditioned one.
             options::set_default("-ksp_norm_type", "unpreconditioned")?;
         }
@@ -55,7 +54,7 @@ fn default_solver_options(dim: usize) -> Result<(), Error> {
         // the change that this UBR iteration brings, not the whole load (which
         // a prescribed displacement can make huge).
         options::set_default("-ksp_converged_use_initial_residual_norm", "1")?;
-        if pc.as_deref() == Some("gamg") {
+        if pc == "gamg" {
             // Measured on the 1M-node block (2 ranks, bench/scale3d, AIJ
             // products, the same day, 2026-11-24; bench/README.md): PETSc
             // 3.18's defaults (threshold -1, square_graph 1) set up in
@@ -74,11 +73,15 @@ fn default_solver_options(dim: usize) -> Result<(), Error> {
 /// factorization), with the rigid-body near-nullspace for algebraic multigrid
 /// and the previous iterate as initial guess for Krylov methods. Returns the
 /// solver, a description for the summary, and whether it is iterative.
-pub fn linear_solver(matrix: &Matrix, mesh: &LocalMesh) -> Result<(Ksp, String, bool), Error> {
+pub fn linear_solver(
+    matrix: &Matrix,
+    mesh: &LocalMesh,
+    backend: &LinearBackend,
+) -> Result<(Ksp, String, bool), Error> {
     let comm = petsc::comm_world();
     let d = mesh.dim;
     let nown = mesh.owned_count * d;
-    default_solver_options(d)?;
+    default_solver_options(backend, d)?;
     let ksp = Ksp::new(comm)?;
     ksp.set_operators(matrix)?;
     ksp.set_from_options()?;
@@ -94,9 +97,11 @@ pub fn linear_solver(matrix: &Matrix, mesh: &LocalMesh) -> Result<(Ksp, String, 
     if iterative {
         ksp.set_initial_guess_nonzero(true)?;
     }
-    let description = match options::get_string("-pc_factor_mat_solver_type")? {
-        Some(s) if pc_type == "cholesky" || pc_type == "lu" => {
-            format!("{ksp_type} + {pc_type} ({s})")
+    let description = match backend {
+        LinearBackend::Factorization { package, .. }
+            if pc_type == "cholesky" || pc_type == "lu" =>
+        {
+            format!("{ksp_type} + {pc_type} ({package})")
         }
         _ => format!("{ksp_type} + {pc_type}"),
     };

@@ -8,41 +8,13 @@
 //! included, is named by [`super::unused`].)
 
 use super::declared::*;
-use super::{Friction, Settings, StopRule, TrescaBound};
-
-/// The linear solver the PETSc options ask for, as far as the UBR settings
-/// depend on it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SolverKind {
-    /// The default direct solver (a MUMPS factorization with
-    /// `-ksp_type preonly`), which the program may drive itself.
-    pub default_direct: bool,
-    /// A Krylov method (`-ksp_type` other than preonly).
-    pub iterative: bool,
-}
-
-impl SolverKind {
-    /// From `-pc_type`, `-ksp_type`, `-pc_factor_mat_solver_type` as given.
-    pub fn of(pc: Option<&str>, ksp: Option<&str>, package: Option<&str>) -> SolverKind {
-        let direct_pc = matches!(pc, None | Some("cholesky") | Some("lu"));
-        SolverKind {
-            default_direct: direct_pc
-                && matches!(ksp, None | Some("preonly"))
-                && matches!(package, None | Some("mumps")),
-            iterative: match ksp {
-                Some(k) => k != "preonly",
-                None => !direct_pc,
-            },
-        }
-    }
-}
+use super::{Algorithm, Friction, Settings, StopRule, TrescaBound};
 
 /// (option, why it has no effect) for every option that `given` says the
 /// user gave and that has none in the scene of `s`, each once.
 /// `solver_read`: the options PETSc's linear solver reads (KSP, PC).
 pub fn inert(
     s: &Settings,
-    solver: SolverKind,
     solver_read: &[String],
     given: &mut dyn FnMut(&str) -> bool,
 ) -> Vec<(String, String)> {
@@ -54,22 +26,22 @@ pub fn inert(
             }
         }
     };
-    let algorithm = s.algorithm.as_str();
+    let algorithm = s.algorithm;
     // The comparators run none of the UBR settings (SSN-C prints its
     // iterations with -ubr_monitor).
-    if algorithm != "ubr" {
+    if algorithm != Algorithm::Ubr {
         let ubr: Vec<&'static str> = ALL
             .iter()
             .map(|o| o.name())
             .filter(|n| n.starts_with("-ubr_"))
-            .filter(|n| !(algorithm == "ssn" && *n == UBR_MONITOR.name))
+            .filter(|n| !(algorithm == Algorithm::Ssn && *n == UBR_MONITOR.name))
             .collect();
         rule(
             &ubr,
             &format!("-contact_algorithm {algorithm} runs no UBR iteration (the -ubr_* options are UBR's)"),
         );
     }
-    if algorithm != "ssn" {
+    if algorithm != Algorithm::Ssn {
         rule(
             &[SSN_R.name, SSN_MAX_IT.name],
             &format!(
@@ -77,7 +49,7 @@ pub fn inert(
             ),
         );
     }
-    if algorithm == "ubr" {
+    if algorithm == Algorithm::Ubr {
         rule(
             &[SSN_INITIAL_SHIFT.name],
             "it is the comparators' initial guess (-contact_algorithm ssn or snesvi), and -contact_algorithm is ubr",
@@ -110,7 +82,7 @@ pub fn inert(
         Friction::Coulomb => {}
     }
     // The two stopping tests take different tolerances.
-    if algorithm == "ubr" {
+    if algorithm == Algorithm::Ubr {
         match s.ubr.stop {
             StopRule::Accuracy => rule(
                 &[
@@ -127,7 +99,7 @@ pub fn inert(
             ),
         }
         // The linear solver.
-        if solver.default_direct && s.ubr.mumps_direct {
+        if s.linear.mumps_direct() {
             // The program drives MUMPS itself: no PETSc solver is made.
             let petsc: Vec<&str> = solver_read
                 .iter()
@@ -139,7 +111,7 @@ pub fn inert(
                 "it is an option of PETSc's linear solvers, and the solver here is MUMPS driven by ubr-petsc (the default), which reads -mat_mumps_icntl_N and -mat_mumps_cntl_N only (-ubr_mumps_direct 0 goes through PETSc's solver)",
             );
         }
-        if !solver.default_direct {
+        if !s.linear.default_direct() {
             rule(
                 &[UBR_MUMPS_DIRECT.name, UBR_CONDENSE_MAX.name, UBR_SCHUR_DISTRIBUTED.name],
                 "it applies to the default direct solver (a MUMPS factorization, -ksp_type preonly), and the PETSc options choose another",
@@ -150,7 +122,7 @@ pub fn inert(
                 "the condensation needs MUMPS driven by the program (-ubr_mumps_direct 1), and -ubr_mumps_direct is 0",
             );
         }
-        if !solver.iterative {
+        if !s.linear.iterative() {
             rule(
                 &[UBR_SBAIJ.name, UBR_INNER_RTOL_FACTOR.name],
                 "it applies to iterative solvers (a -ksp_type other than preonly), and the linear solver is a direct one",
@@ -182,17 +154,19 @@ pub fn inert(
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::options::LinearBackend;
 
     #[test]
     fn solver_kinds() {
-        let d = SolverKind::of(None, None, None);
-        assert!(d.default_direct && !d.iterative);
-        let g = SolverKind::of(Some("gamg"), None, None);
-        assert!(!g.default_direct && g.iterative);
-        let u = SolverKind::of(Some("lu"), None, Some("superlu_dist"));
-        assert!(!u.default_direct && !u.iterative);
-        let c = SolverKind::of(Some("cholesky"), Some("cg"), None);
-        assert!(!c.default_direct && c.iterative);
+        let d = LinearBackend::of(None, None, None, true);
+        assert!(d.default_direct() && d.mumps_direct() && !d.iterative());
+        let p = LinearBackend::of(None, None, None, false);
+        assert!(p.default_direct() && !p.mumps_direct());
+        let g = LinearBackend::of(Some("gamg"), None, None, true);
+        assert!(!g.default_direct() && !g.mumps_direct() && g.iterative());
+        let u = LinearBackend::of(Some("lu"), None, Some("superlu_dist"), true);
+        assert!(!u.default_direct() && !u.mumps_direct() && !u.iterative());
+        let c = LinearBackend::of(Some("cholesky"), Some("cg"), None, true);
+        assert!(!c.default_direct() && !c.mumps_direct() && c.iterative());
     }
 }

@@ -9,14 +9,43 @@ use crate::comm::{allreduce_max, allreduce_max_n};
 use crate::contact::{hertz, ContactSet};
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
-use crate::options::{Friction, HertzReference, Settings, TrescaBound};
+use crate::options::{Algorithm, Friction, HertzReference, Settings, TrescaBound};
 use crate::petsc::Events;
 use crate::wellposed::Restraint;
 use mpi::traits::*;
 
+/// The method that ran, by its name in the paper (UBR-C, UBR-TF, CF-FP)
+/// or the comparator's; [`std::fmt::Display`] writes that name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    UbrC,
+    UbrTf,
+    CfFp,
+    SsnC,
+    SnesVi,
+}
+
+impl Method {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Method::UbrC => "UBR-C",
+            Method::UbrTf => "UBR-TF",
+            Method::CfFp => "CF-FP",
+            Method::SsnC => "SSN-C",
+            Method::SnesVi => "SNES-VI",
+        }
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
 /// What the iterations produced, whichever algorithm ran.
 pub struct Solved {
-    pub name: &'static str,
+    pub name: Method,
     pub iterations: usize,
     pub fixed_point_iterations: usize,
     /// UBR iterations of the frictionless solve behind `-tresca_bound frictionless`.
@@ -35,7 +64,7 @@ pub struct Solved {
 impl Solved {
     fn new() -> Solved {
         Solved {
-            name: "UBR-C",
+            name: Method::UbrC,
             iterations: 0,
             fixed_point_iterations: 0,
             frictionless_iterations: 0,
@@ -50,7 +79,7 @@ impl Solved {
 
     /// The comparators, whose iterations have no UBR stopping test.
     pub fn is_comparator(&self) -> bool {
-        self.name == "SSN-C" || self.name == "SNES-VI"
+        matches!(self.name, Method::SsnC | Method::SnesVi)
     }
 
     /// Why the run did not converge, for the message of exit status 3.
@@ -65,7 +94,7 @@ impl Solved {
                 100.0 * self.last.tension
             );
         }
-        if self.name == "SSN-C" {
+        if self.name == Method::SsnC {
             return format!(
                 "SSN-C stopped after {} iterations (-ssn_max_it): the active set still changes",
                 self.iterations
@@ -301,8 +330,8 @@ fn comparator<C: Communicator>(
 ) -> Result<(UbrState, Solved), Error> {
     let mut state = UbrState::new(problem)?;
     let mut solved = Solved::new();
-    let run = if settings.algorithm == "snesvi" {
-        solved.name = "SNES-VI";
+    let run = if settings.algorithm == Algorithm::SnesVi {
+        solved.name = Method::SnesVi;
         snesvi::snes_vi(world, problem, &mut state, &settings.ssn_initial_shift)?
     } else {
         let ctl = ssn::SsnControl {
@@ -310,8 +339,9 @@ fn comparator<C: Communicator>(
             max_it: settings.ssn_max_it,
             initial_shift: settings.ssn_initial_shift.clone(),
             monitor: settings.ubr.monitor,
+            linear: settings.linear.clone(),
         };
-        solved.name = "SSN-C";
+        solved.name = Method::SsnC;
         ssn::ssn_c(world, problem, local, &mut state, &ctl, events)?.0
     };
     solved.iterations = run.iterations;
@@ -366,7 +396,7 @@ pub fn solve<C: Communicator>(
     events: &Events,
 ) -> Result<(UbrState, Solved), Error> {
     let friction_held = restraint.friction_held;
-    if settings.algorithm != "ubr" {
+    if settings.algorithm != Algorithm::Ubr {
         return comparator(world, local, settings, problem, events);
     }
     let u = &settings.ubr;
@@ -403,7 +433,7 @@ pub fn solve<C: Communicator>(
             solved.take(run, accuracy);
         }
         Friction::Tresca => {
-            solved.name = "UBR-TF";
+            solved.name = Method::UbrTf;
             let s = match explicit {
                 Some(s) => s,
                 None => {
@@ -463,7 +493,7 @@ pub fn solve<C: Communicator>(
             solved.bound = s;
         }
         Friction::Coulomb => {
-            solved.name = "CF-FP";
+            solved.name = Method::CfFp;
             // s^0 = 0 (the paper's frictionless first solve), unless
             // friction alone holds the body: that solve has no solution
             // then, and the first Tresca solve sticks (s^0 = infinity).

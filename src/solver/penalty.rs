@@ -240,7 +240,7 @@ pub fn spectrum<C: Communicator>(
     let work = problem.lin.rhs0.duplicate()?;
     let Problem {
         contact,
-        contact_dirichlet,
+        dirichlet,
         tangential,
         lin,
         ..
@@ -249,7 +249,7 @@ pub fn spectrum<C: Communicator>(
         cs: contact,
         dim: d,
         tangential: *tangential,
-        dirichlet: contact_dirichlet,
+        dirichlet: &dirichlet.contact,
     };
     let space = Space::new(&surface);
     let nc = surface.len();
@@ -411,7 +411,7 @@ pub fn choose<C: Communicator>(
             cs: &problem.contact,
             dim: problem.dim,
             tangential: problem.tangential,
-            dirichlet: &problem.contact_dirichlet,
+            dirichlet: &problem.dirichlet.contact,
         };
         problem.lin.set_r(&surface, estimate, start)?;
         choice.r = estimate;

@@ -38,7 +38,7 @@ pub fn snes_vi<C: Communicator>(
     let upper = problem.lin.rhs0.duplicate()?;
     lower.set(-FREE)?;
     upper.set(FREE)?;
-    let is_dir = &problem.is_dirichlet;
+    let is_dir = &problem.dirichlet.fixed;
     lower.write(|lo| {
         upper.write(|up| {
             for i in 0..nc {
@@ -57,7 +57,7 @@ pub fn snes_vi<C: Communicator>(
     })??;
     // Initial guess: the shift (projected onto the bounds), Dirichlet values kept.
     let mut xd = vec![0.0; is_dir.len()];
-    for &(i, v) in &problem.dirichlet {
+    for &(i, v) in &problem.dirichlet.dofs {
         xd[i] = v;
     }
     state.u.write(|u| {

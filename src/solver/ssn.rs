@@ -17,6 +17,7 @@ use crate::comm::allreduce_sum;
 use crate::error::Error;
 use crate::linalg::{linear_solver, without_zero_couplings};
 use crate::mesh::distribute::LocalMesh;
+use crate::options::LinearBackend;
 use crate::petsc::sys;
 use mpi::traits::*;
 
@@ -28,6 +29,8 @@ pub struct SsnControl {
     /// Initial displacement added to every node (empty: u^0 = 0).
     pub initial_shift: Vec<f64>,
     pub monitor: bool,
+    /// The linear back-end (a KSP: SSN-C factorizes each iteration).
+    pub linear: LinearBackend,
 }
 
 /// Runs SSN-C; the result lands in `state` (u, u_n, lambda as stresses, active set).
@@ -51,13 +54,13 @@ pub fn ssn_c<C: Communicator>(
     // back-end factorizes it); the contact terms go to the nodes' own blocks.
     let base = without_zero_couplings(&problem.lin.matrix, d)?;
     let a = base.duplicate()?;
-    let (ksp, description, iterative) = linear_solver(&a, mesh)?;
+    let (ksp, description, iterative) = linear_solver(&a, mesh, &ctl.linear)?;
     let work = problem.lin.rhs0.duplicate()?;
     let rhs = problem.lin.rhs0.duplicate()?;
-    let is_dir = &problem.is_dirichlet;
+    let is_dir = &problem.dirichlet.fixed;
     // Dirichlet values at the owned dofs, for the lifting of the contact terms.
     let mut xd = vec![0.0; is_dir.len()];
-    for &(i, v) in &problem.dirichlet {
+    for &(i, v) in &problem.dirichlet.dofs {
         xd[i] = v;
     }
     // (1) u^0

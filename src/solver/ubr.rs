@@ -266,7 +266,7 @@ pub fn ubr<C: Communicator>(
         contact: cs,
         lin,
         lumped_mass,
-        contact_dirichlet,
+        dirichlet,
         tangential,
         ..
     } = problem;
@@ -274,7 +274,7 @@ pub fn ubr<C: Communicator>(
         cs,
         dim: d,
         tangential: *tangential,
-        dirichlet: contact_dirichlet,
+        dirichlet: &dirichlet.contact,
     };
     let nc = cs.len();
     let r = lin.r();
