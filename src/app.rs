@@ -23,6 +23,10 @@ use crate::wellposed::{self, Restraint};
 use mpi::traits::*;
 use std::time::Instant;
 
+/// The candidates, the owned Dirichlet dofs and values, and what holds the
+/// bodies.
+type ContactSetup = (ContactSet, Vec<(usize, f64)>, Restraint);
+
 /// Runs the program on every rank. Errors are collective: every rank returns
 /// the same error. Options that nothing used are named on stderr.
 pub fn run<C: Communicator>(world: &C) -> Result<(), Error> {
@@ -361,10 +365,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     /// Returns the candidates, the owned Dirichlet dofs and values
     /// ([`crate::fem::dirichlet_dofs`], computed once here), and what holds
     /// the bodies.
-    fn setup_contact(
-        &mut self,
-        local: &LocalMesh,
-    ) -> Result<(ContactSet, Vec<(usize, f64)>, Restraint), Error> {
+    fn setup_contact(&mut self, local: &LocalMesh) -> Result<ContactSetup, Error> {
         let Some(contact) = &self.settings.contact else {
             return bad(
                 "option -contact_surface is required (a contact problem needs a candidate surface)",

@@ -6,6 +6,7 @@
 pub mod direct;
 pub mod linear;
 pub mod ordering;
+mod schur;
 
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
