@@ -56,13 +56,8 @@ const KNOWN_LONG_FNS: &[(&str, &str)] = &[
     ("src/report/files.rs", "plot_contact"),
     ("src/report/plot.rs", "draw"),
     ("src/linalg/ordering.rs", "parallel_nd"),
-    ("src/options/inert.rs", "inert"),
     ("src/solver/anderson.rs", "step"),
-    ("src/solver/outcome.rs", "solve"),
     ("src/solver/penalty.rs", "spectrum"),
-    ("src/solver/seat.rs", "approach"),
-    ("src/solver/touching.rs", "touching"),
-    ("src/wellposed.rs", "check_loads"),
 ];
 
 const MAX_FILE_LINES: usize = 900;

@@ -383,6 +383,59 @@ pub fn r_far<C: Communicator>(
     (!(1.0 / ubr::R_FAR..=ubr::R_FAR).contains(&ratio)).then_some(r0)
 }
 
+/// UBR-TF with the bound `s`; `bound_error`: the error of a bound from a
+/// frictionless solve, which adds to the estimate; where the sum misses
+/// the target, the Tresca solve goes on (warm) to a target that leaves
+/// room for it.
+#[allow(clippy::too_many_arguments)]
+fn tresca<C: Communicator>(
+    world: &C,
+    problem: &mut Problem,
+    state: &mut UbrState,
+    s: Vec<f64>,
+    ctl: &ubr::UbrControl,
+    bound_error: Option<BoundError>,
+    solved: &mut Solved,
+    events: &Events,
+) -> Result<(), Error> {
+    let accuracy = ctl.stop == StopRule::Accuracy;
+    let mut run = ubr::ubr(world, problem, state, Some(&s), ctl, events)?;
+    // The bound's own error adds to the estimate; where the sum
+    // misses the target, the Tresca solve goes on (warm) to a
+    // target that leaves room for it.
+    let added = match bound_error {
+        Some(e) if accuracy => e.relative(world, state),
+        _ => 0.0,
+    };
+    let budget = 0.25 * ctl.lambda_rtol;
+    if run.converged && added > 0.0 && run.error_estimate + added > budget && added < 0.5 * budget {
+        let more = ubr::UbrControl {
+            lambda_rtol: 4.0 * (budget - added),
+            max_it: ctl.max_it.saturating_sub(run.iterations),
+            ..*ctl
+        };
+        let first = run.iterations;
+        run = ubr::ubr(world, problem, state, Some(&s), &more, events)?;
+        run.iterations += first;
+    }
+    let total = run.error_estimate + added;
+    let missed = accuracy && run.converged && total > budget;
+    solved.take(run, accuracy);
+    if accuracy {
+        solved.error_estimate = Some(total);
+    }
+    if missed {
+        solved.converged = false;
+        solved.failure = Some(format!(
+            "UBR-TF: the error estimate of lambda {total:.3e} (the Tresca solve's {:.3e} and the frictionless bound's {added:.3e}) misses the target -ubr_lambda_rtol {:.1e} / 4: the bound nu_f lambda_c is not known accurately enough; try a looser -ubr_lambda_rtol",
+            total - added,
+            ctl.lambda_rtol
+        ));
+    }
+    solved.bound = s;
+    Ok(())
+}
+
 /// Runs the algorithm the options ask for. `restraint`: what holds the
 /// bodies (a body that contact alone holds and that starts away from the
 /// obstacle is first moved onto it, [`seat`]; where friction alone holds
@@ -453,44 +506,16 @@ pub fn solve<C: Communicator>(
                     }
                 }
             };
-            let mut run = ubr::ubr(world, problem, &mut state, Some(&s), &ctl, events)?;
-            // The bound's own error adds to the estimate; where the sum
-            // misses the target, the Tresca solve goes on (warm) to a
-            // target that leaves room for it.
-            let added = match bound_error {
-                Some(e) if accuracy => e.relative(world, &state),
-                _ => 0.0,
-            };
-            let budget = 0.25 * ctl.lambda_rtol;
-            if run.converged
-                && added > 0.0
-                && run.error_estimate + added > budget
-                && added < 0.5 * budget
-            {
-                let more = ubr::UbrControl {
-                    lambda_rtol: 4.0 * (budget - added),
-                    max_it: ctl.max_it.saturating_sub(run.iterations),
-                    ..ctl
-                };
-                let first = run.iterations;
-                run = ubr::ubr(world, problem, &mut state, Some(&s), &more, events)?;
-                run.iterations += first;
-            }
-            let total = run.error_estimate + added;
-            let missed = accuracy && run.converged && total > budget;
-            solved.take(run, accuracy);
-            if accuracy {
-                solved.error_estimate = Some(total);
-            }
-            if missed {
-                solved.converged = false;
-                solved.failure = Some(format!(
-                    "UBR-TF: the error estimate of lambda {total:.3e} (the Tresca solve's {:.3e} and the frictionless bound's {added:.3e}) misses the target -ubr_lambda_rtol {:.1e} / 4: the bound nu_f lambda_c is not known accurately enough; try a looser -ubr_lambda_rtol",
-                    total - added,
-                    ctl.lambda_rtol
-                ));
-            }
-            solved.bound = s;
+            tresca(
+                world,
+                problem,
+                &mut state,
+                s,
+                &ctl,
+                bound_error,
+                &mut solved,
+                events,
+            )?;
         }
         Friction::Coulomb => {
             solved.name = Method::CfFp;
