@@ -57,7 +57,6 @@ const KNOWN_LONG_FNS: &[(&str, &str)] = &[
     ("src/report/plot.rs", "draw"),
     ("src/linalg/ordering.rs", "parallel_nd"),
     ("src/solver/anderson.rs", "step"),
-    ("src/solver/penalty.rs", "spectrum"),
 ];
 
 const MAX_FILE_LINES: usize = 900;

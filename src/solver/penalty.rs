@@ -225,6 +225,63 @@ fn start_vector(mesh: &LocalMesh, surface: &Surface, space: &Space) -> Vec<f64> 
         .collect()
 }
 
+/// The rigid motions only contact holds, on the Lanczos space of `space`,
+/// orthonormal: exact eigenvectors of the compliance, deflated.
+fn deflation<C: Communicator>(
+    world: &C,
+    restraint: &Restraint,
+    mesh: &LocalMesh,
+    surface: &Surface,
+    space: &Space,
+) -> Vec<Vec<f64>> {
+    let (nc, d) = (surface.len(), surface.dim);
+    let mut deflate: Vec<Vec<f64>> = Vec::new();
+    for m in &restraint.contact_held {
+        let mut x = vec![0.0; space.len()];
+        for i in 0..nc {
+            let v = surface.cs.node[i];
+            let u = restraint.bodies.displacement(m, mesh.x(v));
+            if space.tangential {
+                for c in 0..d {
+                    if space.active[i * d + c] {
+                        x[i * d + c] = space.sqrt_w[i * d + c] * u[c];
+                    }
+                }
+            } else if space.active[i] {
+                x[i] = space.sqrt_w[i] * (0..d).map(|c| u[c] * surface.cs.n[c]).sum::<f64>();
+            }
+        }
+        orthogonalize(world, &deflate, &mut x);
+        let nx = dot(world, &x, &x).sqrt();
+        if nx > 0.0 {
+            x.iter_mut().for_each(|v| *v /= nx);
+            deflate.push(x);
+        }
+    }
+    deflate
+}
+
+/// The eigenvalues sigma of `S_0` from the Ritz values tau of the Lanczos
+/// tridiagonal matrix (`alpha`, `beta`) of `S_{r0}`: `sigma = tau / (1 - r0
+/// tau)`, those that map.
+fn ritz_sigmas(alpha: &[f64], beta: &[f64], r0: f64) -> Vec<f64> {
+    let m = alpha.len();
+    let mut t = DMatrix::<f64>::zeros(m, m);
+    for i in 0..m {
+        t[(i, i)] = alpha[i];
+        if i + 1 < m {
+            t[(i, i + 1)] = beta[i];
+            t[(i + 1, i)] = beta[i];
+        }
+    }
+    let eig = SymmetricEigen::new(t);
+    eig.eigenvalues
+        .iter()
+        .filter(|&&tau| tau > 0.0 && r0 * tau < 1.0 - 1e-6)
+        .map(|&tau| tau / (1.0 - r0 * tau))
+        .collect()
+}
+
 /// The extreme eigenvalues of `S_0` from Lanczos on `S_{r0}`; returns
 /// (sigma_min, sigma_max, steps), or None when the space is too small.
 pub fn spectrum<C: Communicator>(
@@ -254,29 +311,7 @@ pub fn spectrum<C: Communicator>(
     let space = Space::new(&surface);
     let nc = surface.len();
     // The rigid motions only contact holds: exact eigenvectors, deflated.
-    let mut deflate: Vec<Vec<f64>> = Vec::new();
-    for m in &restraint.contact_held {
-        let mut x = vec![0.0; space.len()];
-        for i in 0..nc {
-            let v = surface.cs.node[i];
-            let u = restraint.bodies.displacement(m, mesh.x(v));
-            if space.tangential {
-                for c in 0..d {
-                    if space.active[i * d + c] {
-                        x[i * d + c] = space.sqrt_w[i * d + c] * u[c];
-                    }
-                }
-            } else if space.active[i] {
-                x[i] = space.sqrt_w[i] * (0..d).map(|c| u[c] * surface.cs.n[c]).sum::<f64>();
-            }
-        }
-        orthogonalize(world, &deflate, &mut x);
-        let nx = dot(world, &x, &x).sqrt();
-        if nx > 0.0 {
-            x.iter_mut().for_each(|v| *v /= nx);
-            deflate.push(x);
-        }
-    }
+    let deflate = deflation(world, restraint, mesh, &surface, &space);
     let active = allreduce_count(world, space.active.iter().filter(|&&a| a).count());
     let dim = active.saturating_sub(deflate.len());
     if dim < 2 {
@@ -313,22 +348,7 @@ pub fn spectrum<C: Communicator>(
         orthogonalize(world, &basis, &mut w);
         let b = dot(world, &w, &w).sqrt();
         // Ritz values of the tridiagonal matrix so far.
-        let m = alpha.len();
-        let mut t = DMatrix::<f64>::zeros(m, m);
-        for i in 0..m {
-            t[(i, i)] = alpha[i];
-            if i + 1 < m {
-                t[(i, i + 1)] = beta[i];
-                t[(i + 1, i)] = beta[i];
-            }
-        }
-        let eig = SymmetricEigen::new(t);
-        let sigmas: Vec<f64> = eig
-            .eigenvalues
-            .iter()
-            .filter(|&&tau| tau > 0.0 && r0 * tau < 1.0 - 1e-6)
-            .map(|&tau| tau / (1.0 - r0 * tau))
-            .collect();
+        let sigmas = ritz_sigmas(&alpha, &beta, r0);
         if let (Some(lo), Some(hi)) = (
             sigmas.iter().copied().reduce(f64::min),
             sigmas.iter().copied().reduce(f64::max),
