@@ -56,7 +56,6 @@ const KNOWN_LONG_FNS: &[(&str, &str)] = &[
     ("src/report/files.rs", "plot_contact"),
     ("src/report/plot.rs", "draw"),
     ("src/linalg/ordering.rs", "parallel_nd"),
-    ("src/solver/anderson.rs", "step"),
 ];
 
 const MAX_FILE_LINES: usize = 900;
