@@ -5,24 +5,27 @@
 //! assemble and factorize, choose r, solve, check, and write the outputs,
 //! each a short method in its `-log_view` stage.
 
+use crate::checks::{self, Deformation, Diagnostics, Forces};
+use crate::comm::{allreduce_count, allreduce_max, allreduce_sum};
 use crate::contact::ContactSet;
 use crate::error::{bad, Error};
 use crate::mesh::{self, distribute, distribute::LocalMesh};
-use crate::options::{self, unused::Unused, Friction, Partitioner, Settings};
+use crate::options::{self, unused::Unused, Algorithm, Friction, Partitioner, Settings};
 use crate::petsc::{self, Events, Stages};
 use crate::progress;
 use crate::report::{self, files, ContactRow, Results, Times, Totals};
-use crate::solver::checks::{self, Deformation, Diagnostics, Forces};
-use crate::solver::outcome::{self, Solved};
+use crate::solver::outcome::{self, Method, Solved};
 use crate::solver::surface::UbrState;
 use crate::solver::touching;
 use crate::solver::ubr::UbrOutcome;
-use crate::solver::wellposed::{self, Restraint};
-use crate::solver::{
-    allreduce_count, allreduce_max, allreduce_sum, penalty, ContactTerms, Problem,
-};
+use crate::solver::{penalty, ContactTerms, Problem};
+use crate::wellposed::{self, Restraint};
 use mpi::traits::*;
 use std::time::Instant;
+
+/// The candidates, the owned Dirichlet dofs and values, and what holds the
+/// bodies.
+type ContactSetup = (ContactSet, Vec<(usize, f64)>, Restraint);
 
 /// Runs the program on every rank. Errors are collective: every rank returns
 /// the same error. Options that nothing used are named on stderr.
@@ -173,8 +176,8 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     /// message; the run then ends with that error.
     fn run(&mut self, unused: &mut Unused) -> Result<(), Error> {
         let local = self.make_and_distribute_mesh()?;
-        let (contact, restraint) = self.setup_contact(&local)?;
-        let assembled = self.assemble(&local, contact, &restraint);
+        let (contact, dirichlet, restraint) = self.setup_contact(&local)?;
+        let assembled = self.assemble(&local, contact, dirichlet, &restraint);
         let mut problem = assembled.map_err(|e| self.explain_r(e))?;
         let mut failure = problem.lin.failure();
         let mut choice = None;
@@ -241,7 +244,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         );
         // The iterations name an r far from r0 themselves.
         let said = e.to_string().contains("trial r0");
-        if !far || !named || said || self.settings.algorithm != "ubr" {
+        if !far || !named || said || self.settings.algorithm != Algorithm::Ubr {
             return e;
         }
         e.with_note(&format!(
@@ -253,7 +256,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     /// The r choice to report when it did not run or failed: r as it is,
     /// no spectral estimate.
     fn unchosen(&self, problem: &Problem) -> Option<penalty::Choice> {
-        (self.settings.algorithm == "ubr").then(|| {
+        (self.settings.algorithm == Algorithm::Ubr).then(|| {
             let auto = self.settings.ubr.r.is_none();
             penalty::Choice {
                 r: problem.r(),
@@ -277,12 +280,12 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     /// the iterations unknown (NaN: null in the report).
     fn unsolved(&self, problem: &Problem) -> Result<Solution, Error> {
         let s = &self.settings;
-        let name = match (s.algorithm.as_str(), s.friction) {
-            ("snesvi", _) => "SNES-VI",
-            ("ssn", _) => "SSN-C",
-            (_, Friction::None) => "UBR-C",
-            (_, Friction::Tresca) => "UBR-TF",
-            (_, Friction::Coulomb) => "CF-FP",
+        let name = match (s.algorithm, s.friction) {
+            (Algorithm::SnesVi, _) => Method::SnesVi,
+            (Algorithm::Ssn, _) => Method::SsnC,
+            (Algorithm::Ubr, Friction::None) => Method::UbrC,
+            (Algorithm::Ubr, Friction::Tresca) => Method::UbrTf,
+            (Algorithm::Ubr, Friction::Coulomb) => Method::CfFp,
         };
         let nan = f64::NAN;
         let last = UbrOutcome {
@@ -397,7 +400,10 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     /// The contact candidates, and the check that every rigid motion is
     /// held (by Dirichlet data, contact along n, or friction): an ill-posed
     /// scene is named now, not met as a zero pivot.
-    fn setup_contact(&mut self, local: &LocalMesh) -> Result<(ContactSet, Restraint), Error> {
+    /// Returns the candidates, the owned Dirichlet dofs and values
+    /// ([`crate::fem::dirichlet_dofs`], computed once here), and what holds
+    /// the bodies.
+    fn setup_contact(&mut self, local: &LocalMesh) -> Result<ContactSetup, Error> {
         let Some(contact) = &self.settings.contact else {
             return bad(
                 "option -contact_surface is required (a contact problem needs a candidate surface)",
@@ -422,21 +428,23 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             self.touched = true;
             self.warn(w);
         }
-        Ok((cs, restraint))
+        Ok((cs, dirichlet, restraint))
     }
 
     /// Assembly and Factorization stages: K + r B^T W B at the trial r
     /// (K alone for the comparators), the Dirichlet elimination and the
-    /// loads, factorized once.
+    /// loads; the loads judged against what holds the bodies before the
+    /// one factorization.
     fn assemble(
         &mut self,
         local: &LocalMesh,
         cs: ContactSet,
+        dirichlet: Vec<(usize, f64)>,
         restraint: &Restraint,
     ) -> Result<Problem, Error> {
         let (world, s) = (self.world, &self.settings);
         let d = local.dim;
-        let ssn = s.algorithm != "ubr";
+        let ssn = s.algorithm != Algorithm::Ubr;
         if ssn && !s.ssn_initial_shift.is_empty() && s.ssn_initial_shift.len() != d {
             return bad(format!(
                 "option -ssn_initial_shift: {} components given, the mesh is {d}D",
@@ -464,7 +472,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                 local.global_nodes * d
             )
         });
-        let problem = Problem::setup(world, local, s, cs, terms, r0, &self.stages)?;
+        let assembled = Problem::assemble(world, local, s, cs, dirichlet, terms, r0, &self.stages)?;
         // Can the contact (frictionless, or within Coulomb's cone) balance
         // the loads on the motions no Dirichlet condition holds?
         let coulomb = match s.friction {
@@ -473,15 +481,16 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             Friction::Tresca => None,
         };
         if let Some(coulomb) = coulomb {
-            let load = problem.load.read(|f| f.to_vec())?;
-            wellposed::check_loads(world, local, restraint, &problem.contact, &load, coulomb)?;
+            let load = assembled.load.read(|f| f.to_vec())?;
+            wellposed::check_loads(world, local, restraint, &assembled.contact, &load, coulomb)?;
         }
-        if problem.matrix_mallocs != 0.0 {
+        if assembled.matrix_mallocs != 0.0 {
             return Err(Error::Internal(format!(
                 "{} mallocs during matrix assembly: preallocation is wrong",
-                problem.matrix_mallocs
+                assembled.matrix_mallocs
             )));
         }
+        let problem = Problem::factorize(world, local, s, assembled, &self.stages)?;
         self.times.assembly = problem.time_assembly;
         self.times.factorization = problem.time_factorization;
         Ok(problem)
@@ -495,7 +504,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         problem: &mut Problem,
         restraint: &Restraint,
     ) -> Result<Option<penalty::Choice>, Error> {
-        if self.settings.algorithm != "ubr" {
+        if self.settings.algorithm != Algorithm::Ubr {
             return Ok(None);
         }
         let t = Instant::now();

@@ -1,11 +1,41 @@
 //! ubr-petsc: Uzawa block relaxation (Koko 2010) for unilateral contact in
 //! linear elasticity, distributed on PETSc and MPI.
+//!
+//! # Floors
+//!
+//! The modules stand on floors; a module imports from its own floor and
+//! those below, never from above (`tests/house.rs` checks it on the `use`
+//! lines and `crate::` paths). Bottom to top:
+//!
+//! 1. [`error`], [`petsc`], [`mumps`], [`dense`], [`comm`], [`progress`]:
+//!    errors, the PETSc and MUMPS bindings, dense algebra, the MPI
+//!    collectives, the progress line;
+//! 2. [`options`]: the settings and the typed values options parse to;
+//! 3. [`mesh`]: meshes, their generators and readers, the distribution;
+//! 4. [`fem`]: elements, assembly, loads, stresses;
+//! 5. [`contact`]: candidates, the obstacle, the operators B and B^T W, the
+//!    pointwise projections;
+//! 6. [`linalg`]: the linear back-ends (PETSc's KSP, MUMPS called
+//!    directly, orderings, the Schur complement);
+//! 7. [`wellposed`]: the analysis of the scene (what holds each body);
+//! 8. [`solver`]: the discrete problem and the algorithms (UBR-C, UBR-TF,
+//!    CF-FP, the choice of r, the comparators SSN-C and SNES VI);
+//! 9. [`checks`]: the checks of a solution and the set-up warnings;
+//! 10. [`report`]: the summary, the JSON report, the output files;
+//! 11. [`app`], then `main.rs`: the run, step by step.
+//!
+//! Known exceptions, to be removed by the work that owns those files (and
+//! listed in `tests/house.rs`): `mesh/` reads the element Jacobians of
+//! `fem/`; PETSc's start-up reads the options files of `options/`.
 
 pub mod app;
+pub mod checks;
+pub mod comm;
 pub mod contact;
 pub mod dense;
 pub mod error;
 pub mod fem;
+pub mod linalg;
 pub mod mesh;
 pub mod mumps;
 pub mod options;
@@ -13,5 +43,6 @@ pub mod petsc;
 pub mod progress;
 pub mod report;
 pub mod solver;
+pub mod wellposed;
 
 pub use petsc::{Events, Stages};

@@ -7,6 +7,7 @@
 //! options that have no effect in the scene, [`unused`] those that nothing
 //! used.
 
+pub mod choices;
 pub mod declared;
 pub mod files;
 pub mod inert;
@@ -14,10 +15,9 @@ pub mod outputs;
 pub mod solver;
 pub mod unused;
 
-pub use crate::contact::obstacle::Obstacle;
 use crate::error::{bad, Error};
 use crate::petsc;
-use crate::solver::stopping::StopRule;
+pub use choices::{Algorithm, LinearBackend, Obstacle, StopRule};
 pub use declared::print_help;
 use declared::*;
 use mpi::traits::*;
@@ -177,8 +177,13 @@ pub struct Settings {
     pub friction: Friction,
     pub friction_coefficient: f64,
     pub tresca_bound: Option<TrescaBound>,
-    pub algorithm: String,
+    pub algorithm: Algorithm,
     pub ubr: UbrSettings,
+    /// The linear back-end, decided once here.
+    pub linear: LinearBackend,
+    /// `-ksp_rtol` given: an iterative back-end keeps it (else UBR adapts
+    /// the inner tolerance).
+    pub ksp_rtol_given: bool,
     /// SSN-C: r, initial displacement shift, iteration cap.
     pub ssn_r: f64,
     pub ssn_initial_shift: Vec<f64>,
@@ -580,7 +585,7 @@ impl Settings {
         let mut notes = Vec::new();
         let contact = contact(&mut notes)?;
         let (friction, friction_coefficient, tresca_bound) = friction()?;
-        let algorithm = ALGORITHM.get()?.to_string();
+        let algorithm = Algorithm::parse(ALGORITHM.get()?).expect("a declared choice");
         let ubr = ubr_settings()?;
         let reference = reference()?;
         let contact_center = REFERENCE_CENTER.vector()?;
@@ -592,14 +597,14 @@ impl Settings {
         let ssn_r = positive(SSN_R.name, SSN_R.real()?.unwrap_or(1e3 * young))?;
         let ssn_initial_shift = SSN_INITIAL_SHIFT.vector()?.unwrap_or_default();
         let ssn_max_it = SSN_MAX_IT.get()?;
-        if algorithm != "ubr" && friction != Friction::None {
+        if algorithm != Algorithm::Ubr && friction != Friction::None {
             return bad(format!(
                 "option -contact_algorithm {algorithm}: this comparator is frictionless (-friction none)"
             ));
         }
         let solver_read = solver::check(ranks)?;
         unused::set_solver_options(solver_read.clone());
-        let solver_kind = inert::SolverKind::of(
+        let linear = LinearBackend::of(
             petsc::options::get_string("-pc_type")?
                 .as_deref()
                 .map(str::trim),
@@ -609,7 +614,9 @@ impl Settings {
             petsc::options::get_string("-pc_factor_mat_solver_type")?
                 .as_deref()
                 .map(str::trim),
+            ubr.mumps_direct,
         );
+        let ksp_rtol_given = petsc::options::has_name("-ksp_rtol")?;
         let partition = match PARTITION.get()? {
             "metis" => Partitioner::Metis,
             "rcb" => Partitioner::Rcb,
@@ -617,7 +624,7 @@ impl Settings {
             // GAMG converges worse on its slabs (the 1M-node block on 16
             // ranks: 317 preconditioner applications against 179 on
             // METIS' parts, 48 s against 32 s of iterations).
-            _ if ranks > 1 && solver_kind.default_direct && ubr.mumps_direct => Partitioner::Rcb,
+            _ if ranks > 1 && linear.mumps_direct() => Partitioner::Rcb,
             _ => Partitioner::Metis,
         };
         let mut settings = Settings {
@@ -636,6 +643,8 @@ impl Settings {
             tresca_bound,
             algorithm,
             ubr,
+            linear,
+            ksp_rtol_given,
             ssn_r,
             ssn_initial_shift,
             ssn_max_it,
@@ -650,7 +659,7 @@ impl Settings {
         };
         // What has no effect here, named now, before any work.
         let mut given = |name: &str| petsc::options::has_name(name).unwrap_or(false);
-        for (name, why) in inert::inert(&settings, solver_kind, &solver_read, &mut given) {
+        for (name, why) in inert::inert(&settings, &solver_read, &mut given) {
             unused::mark_named(&name);
             settings
                 .notes

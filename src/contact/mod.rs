@@ -10,6 +10,7 @@ pub use obstacle::{gap, Obstacle};
 
 pub mod hertz;
 pub mod obstacle;
+pub mod surface;
 
 /// Candidates owned by this rank.
 #[derive(Clone, Debug, Default)]

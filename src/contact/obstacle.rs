@@ -1,25 +1,7 @@
 //! The rigid obstacle and the gap along the contact direction n
 //! (docs/DESIGN.md, "Discretization": the gap).
 
-/// The rigid obstacle (`-obstacle`).
-#[derive(Clone, Debug, PartialEq)]
-pub enum Obstacle {
-    Plane {
-        point: Vec<f64>,
-    },
-    Ball {
-        center: Vec<f64>,
-        radius: f64,
-    },
-    /// The paper's 3D obstacle (section 7.2): the half of the ball facing the
-    /// body, standing on its flat face on a rigid floor, the plane through the
-    /// centre orthogonal to n. Every node of the contact surface is a
-    /// candidate (the paper's Gamma_c is the whole surface).
-    HalfBall {
-        center: Vec<f64>,
-        radius: f64,
-    },
-}
+pub use crate::options::Obstacle;
 
 impl Obstacle {
     /// A point of the obstacle: the plane's point, the ball's centre.

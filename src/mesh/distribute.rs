@@ -180,7 +180,7 @@ pub fn partition_nodes(graph: &NodeGraph, nparts: usize) -> Result<Vec<usize>, E
 }
 
 /// Recursive coordinate bisection into `nparts` parts, numbered along the
-/// binary tree over the rank range that [`crate::solver::ordering`] builds
+/// binary tree over the rank range that [`crate::linalg::ordering`] builds
 /// (each range `[lo, hi)` split at `lo + (hi - lo) / 2`): each tree node's
 /// nodes are cut by a plane across their longest extent, in the ratio of
 /// the two halves' rank counts, so every part holds n/P nodes (within one)

@@ -11,10 +11,10 @@ pub mod plot;
 pub mod summary;
 pub mod vtk;
 
+use crate::checks::{Deformation, Diagnostics, Forces};
 use crate::contact::hertz;
 use crate::mesh::distribute::LocalMesh;
 use crate::options::{Friction, HertzReference, MeshSource, Settings};
-use crate::solver::checks::{Deformation, Diagnostics, Forces};
 use crate::solver::outcome::Solved;
 use crate::solver::surface::UbrState;
 use crate::solver::{penalty, Problem};

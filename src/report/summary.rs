@@ -3,6 +3,7 @@
 //! (each relative to a named scale), the forces, and the times.
 
 use super::Results;
+use crate::solver::outcome::Method;
 use crate::solver::penalty;
 use crate::solver::stopping::StopRule;
 
@@ -157,13 +158,13 @@ fn r_source(choice: Option<&penalty::Choice>) -> String {
 
 fn algorithm(m: &Results) {
     let (s, res) = (m.settings, m.solved);
-    if res.name == "SNES-VI" {
+    if res.name == Method::SnesVi {
         println!(
             "  iterations      {} Newton iterations of PETSc's vinewtonrsls ({} linear)",
             res.iterations,
             m.state.inner_iterations.iter().sum::<usize>()
         );
-    } else if res.name == "SSN-C" {
+    } else if res.name == Method::SsnC {
         let shift: Vec<String> = s.ssn_initial_shift.iter().map(|&v| given(v)).collect();
         println!(
             "  r (SSN-C)       {} (r/E = {}), initial guess ({})",

@@ -184,21 +184,7 @@ impl Anderson {
             p += 1;
         }
         sum(&self.send[..p], &mut self.recv[..p]);
-        let mut gf = DMatrix::<f64>::zeros(m, m);
-        let mut gx = DMatrix::<f64>::zeros(m, m);
-        let mut rhs = DVector::<f64>::zeros(m);
-        let mut p = 0;
-        for a in 0..m {
-            for b in a..m {
-                gf[(a, b)] = self.recv[p];
-                gf[(b, a)] = self.recv[p];
-                gx[(a, b)] = self.recv[p + 1];
-                gx[(b, a)] = self.recv[p + 1];
-                p += 2;
-            }
-            rhs[a] = self.recv[p];
-            p += 1;
-        }
+        let (mut gf, gx, rhs) = unpack(&self.recv, m);
         let diag_max = (0..m).map(|a| gf[(a, a)]).fold(0.0, f64::max);
         let reg = REGULARIZATION * diag_max + f64::MIN_POSITIVE;
         for a in 0..m {
@@ -214,19 +200,7 @@ impl Anderson {
             return Step::default();
         }
         // sigma_max(dX dF^+)^2 = lambda_max(L^{-1} Gx L^{-T}), Gf = L L^T.
-        let l = chol.l();
-        let amplification = l
-            .solve_lower_triangular(&gx)
-            .and_then(|a| l.solve_lower_triangular(&a.transpose()))
-            .map(|s| {
-                let s = (&s + s.transpose()) * 0.5;
-                SymmetricEigen::new(s)
-                    .eigenvalues
-                    .iter()
-                    .fold(0.0f64, |a, &b| a.max(b))
-                    .sqrt()
-            })
-            .filter(|a| a.is_finite());
+        let amplification = amplification(&chol.l(), &gx);
         // z_{k+1} = g_k - dG gamma
         for a in 0..m {
             let ga = gamma[a];
@@ -242,6 +216,44 @@ impl Anderson {
             amplification,
         }
     }
+}
+
+/// The Gram matrices `dF^T W dF`, `dX^T W dX` and the right-hand side
+/// `dF^T W f` of memory `m` from the reduced sums (upper triangles, row by
+/// row, each row followed by its right-hand side entry).
+fn unpack(recv: &[f64], m: usize) -> (DMatrix<f64>, DMatrix<f64>, DVector<f64>) {
+    let mut gf = DMatrix::<f64>::zeros(m, m);
+    let mut gx = DMatrix::<f64>::zeros(m, m);
+    let mut rhs = DVector::<f64>::zeros(m);
+    let mut p = 0;
+    for a in 0..m {
+        for b in a..m {
+            gf[(a, b)] = recv[p];
+            gf[(b, a)] = recv[p];
+            gx[(a, b)] = recv[p + 1];
+            gx[(b, a)] = recv[p + 1];
+            p += 2;
+        }
+        rhs[a] = recv[p];
+        p += 1;
+    }
+    (gf, gx, rhs)
+}
+
+/// `sigma_max(dX dF^+) = sqrt(lambda_max(L^{-1} Gx L^{-T}))`, `Gf = L L^T`
+/// (None when not finite).
+fn amplification(l: &DMatrix<f64>, gx: &DMatrix<f64>) -> Option<f64> {
+    l.solve_lower_triangular(gx)
+        .and_then(|a| l.solve_lower_triangular(&a.transpose()))
+        .map(|s| {
+            let s = (&s + s.transpose()) * 0.5;
+            SymmetricEigen::new(s)
+                .eigenvalues
+                .iter()
+                .fold(0.0f64, |a, &b| a.max(b))
+                .sqrt()
+        })
+        .filter(|a| a.is_finite())
 }
 
 #[cfg(test)]

@@ -19,13 +19,12 @@
 //! relative to its max norm) times the outer amplification `1 / (1 - q)`,
 //! q the largest recent ratio of consecutive changes, below tol / 4.
 
-use super::allreduce_max_n;
-use super::allreduce_sum;
 use super::anderson::Anderson;
 use super::stopping::StopRule;
-use super::surface::UbrState;
+use super::surface::{SurfaceState, UbrState};
 use super::ubr::{ubr, UbrControl, UbrOutcome};
 use super::Problem;
+use crate::comm::{allreduce_max_n, allreduce_sum};
 use crate::error::Error;
 use mpi::traits::*;
 
@@ -82,37 +81,7 @@ pub fn cf_fp<C: Communicator>(
         // r (u_n^k - u_n^{k-1}) until u settles: at eps_f^0 = 1 a tension test
         // at its final value would hold the first, frictionless, solve for
         // tens of iterations).
-        let schedule = 0.1f64.powi(m as i32);
-        let (inner, full_tolerance) = if paper {
-            let eps = schedule.max(ctl.rtol);
-            (
-                UbrControl {
-                    rtol: eps,
-                    dual_rtol: ctl.dual_rtol * eps / ctl.rtol,
-                    tension_tol: ctl.tension_tol * eps / ctl.rtol,
-                    ..*ctl
-                },
-                eps <= ctl.rtol,
-            )
-        } else {
-            // The outer estimate below is built from the changes of lambda
-            // between Tresca solutions, each accurate to a quarter of its
-            // tolerance: at the outer target itself their errors (up to
-            // half the target between two solutions) would hide the
-            // changes it must see below a quarter of the target, and the
-            // test would pass only by chance (hemisphere3d_coulomb at 1e-6
-            // with GAMG: 100 outer iterations, the changes' ratios noise).
-            // The inner target is ten times tighter.
-            let inner_target = ctl.lambda_rtol * INNER_TIGHTER;
-            let tol = schedule.max(inner_target);
-            (
-                UbrControl {
-                    lambda_rtol: tol,
-                    ..*ctl
-                },
-                tol <= inner_target,
-            )
-        };
+        let (inner, full_tolerance) = inner_control(ctl, m, paper);
         let run = ubr(world, problem, state, Some(&s), &inner, events)?;
         out.inner_iterations += run.iterations;
         out.fixed_point_iterations = m + 1;
@@ -121,56 +90,11 @@ pub fn cf_fp<C: Communicator>(
         for (x, l) in next.iter_mut().zip(&st.lambda_n) {
             *x = nu_f * l.abs();
         }
-        let mut local = [0.0; 2];
-        for i in 0..s.len() {
-            local[0] += w[i] * (next[i] - s[i]).powi(2);
-            local[1] += w[i] * next[i] * next[i];
-        }
-        let [diff2, norm2] = allreduce_sum(world, local);
-        out.fp_change = if norm2 > 0.0 {
-            (diff2 / norm2).sqrt()
-        } else if diff2 == 0.0 {
-            0.0 // zero after zero: nothing touches
-        } else {
-            f64::INFINITY
-        };
+        out.fp_change = relative_change(world, &w, &next, &s);
         // Accuracy mode: the change of lambda between Tresca solutions.
         let mut estimate = f64::INFINITY;
         if !paper {
-            let (ln, lt) = (&st.lambda_n, &st.lambda_t);
-            if let Some((pn, pt)) = &prev {
-                let mut ext = [0.0f64; 4];
-                for i in 0..ln.len() {
-                    ext[0] = ext[0].max((ln[i] - pn[i]).abs());
-                    ext[1] = ext[1].max(ln[i].abs());
-                    let (mut dt, mut nt) = (0.0, 0.0);
-                    for c in 0..d {
-                        dt += (lt[i * d + c] - pt[i * d + c]).powi(2);
-                        nt += lt[i * d + c].powi(2);
-                    }
-                    ext[2] = ext[2].max(dt.sqrt());
-                    ext[3] = ext[3].max(nt.sqrt());
-                }
-                let [dn, nn, dt, nt] = allreduce_max_n(world, ext);
-                let rel = |a: f64, b: f64| if a == 0.0 { 0.0 } else { a / b };
-                let change = rel(dn, nn).max(rel(dt, nt.max(1e-6 * nn)));
-                changes.push(change);
-                let q = changes
-                    .iter()
-                    .rev()
-                    .take(4)
-                    .zip(changes.iter().rev().skip(1))
-                    .map(|(a, b)| if *b > 0.0 { a / b } else { 0.0 })
-                    .fold(f64::NEG_INFINITY, f64::max);
-                estimate = if change == 0.0 {
-                    0.0
-                } else if changes.len() < 2 || q.is_nan() || q >= 1.0 {
-                    f64::INFINITY
-                } else {
-                    change / (1.0 - q.max(0.0))
-                };
-            }
-            prev = Some((ln.clone(), lt.clone()));
+            estimate = outer_estimate(world, d, st, &mut prev, &mut changes);
             out.fp_error_estimate = estimate;
         }
         crate::progress::tick(|| {
@@ -185,21 +109,7 @@ pub fn cf_fp<C: Communicator>(
             )
         });
         if root && ctl.monitor {
-            println!(
-                "  CF-FP {:3}: {} Tresca iterations (tol {:.0e}), ||s^(m+1) - s^m|| / ||s^(m+1)|| = {:.3e}{}, contact {} stick {} slip {}",
-                m,
-                run.iterations,
-                if paper { inner.rtol } else { inner.lambda_rtol },
-                out.fp_change,
-                if paper {
-                    String::new()
-                } else {
-                    format!(", outer error estimate {estimate:.3e}")
-                },
-                run.contact,
-                run.stick,
-                run.slip
-            );
+            monitor(m, &run, &inner, paper, out.fp_change, estimate);
         }
         out.bound.clone_from(&s);
         // Stopped by its cap or stalled (a Tresca problem its bound cannot
@@ -263,4 +173,132 @@ pub fn cf_fp<C: Communicator>(
 
 fn diff_of(a: &[f64], b: &[f64]) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| x - y).collect()
+}
+
+/// The Tresca solve's control at fixed-point iteration m: the paper's
+/// variable inner tolerance `eps_f^m = max(0.1^m, eps_f)`, and whether it
+/// is the full one.
+fn inner_control(ctl: &UbrControl, m: usize, paper: bool) -> (UbrControl, bool) {
+    let schedule = 0.1f64.powi(m as i32);
+    if paper {
+        let eps = schedule.max(ctl.rtol);
+        (
+            UbrControl {
+                rtol: eps,
+                dual_rtol: ctl.dual_rtol * eps / ctl.rtol,
+                tension_tol: ctl.tension_tol * eps / ctl.rtol,
+                ..*ctl
+            },
+            eps <= ctl.rtol,
+        )
+    } else {
+        // The outer estimate below is built from the changes of lambda
+        // between Tresca solutions, each accurate to a quarter of its
+        // tolerance: at the outer target itself their errors (up to
+        // half the target between two solutions) would hide the
+        // changes it must see below a quarter of the target, and the
+        // test would pass only by chance (hemisphere3d_coulomb at 1e-6
+        // with GAMG: 100 outer iterations, the changes' ratios noise).
+        // The inner target is ten times tighter.
+        let inner_target = ctl.lambda_rtol * INNER_TIGHTER;
+        let tol = schedule.max(inner_target);
+        (
+            UbrControl {
+                lambda_rtol: tol,
+                ..*ctl
+            },
+            tol <= inner_target,
+        )
+    }
+}
+
+/// The paper's (5.7): `||s^{m+1} - s^m|| / ||s^{m+1}||` (weights w).
+fn relative_change<C: Communicator>(world: &C, w: &[f64], next: &[f64], s: &[f64]) -> f64 {
+    let mut local = [0.0; 2];
+    for i in 0..s.len() {
+        local[0] += w[i] * (next[i] - s[i]).powi(2);
+        local[1] += w[i] * next[i] * next[i];
+    }
+    let [diff2, norm2] = allreduce_sum(world, local);
+    if norm2 > 0.0 {
+        (diff2 / norm2).sqrt()
+    } else if diff2 == 0.0 {
+        0.0 // zero after zero: nothing touches
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Accuracy mode: the outer error estimate of lambda from the changes of
+/// lambda between Tresca solutions (`prev`: the previous one's
+/// multipliers; `changes`: the recent changes).
+fn outer_estimate<C: Communicator>(
+    world: &C,
+    d: usize,
+    st: &SurfaceState,
+    prev: &mut Option<(Vec<f64>, Vec<f64>)>,
+    changes: &mut Vec<f64>,
+) -> f64 {
+    let mut estimate = f64::INFINITY;
+    let (ln, lt) = (&st.lambda_n, &st.lambda_t);
+    if let Some((pn, pt)) = prev.as_ref() {
+        let mut ext = [0.0f64; 4];
+        for i in 0..ln.len() {
+            ext[0] = ext[0].max((ln[i] - pn[i]).abs());
+            ext[1] = ext[1].max(ln[i].abs());
+            let (mut dt, mut nt) = (0.0, 0.0);
+            for c in 0..d {
+                dt += (lt[i * d + c] - pt[i * d + c]).powi(2);
+                nt += lt[i * d + c].powi(2);
+            }
+            ext[2] = ext[2].max(dt.sqrt());
+            ext[3] = ext[3].max(nt.sqrt());
+        }
+        let [dn, nn, dt, nt] = allreduce_max_n(world, ext);
+        let rel = |a: f64, b: f64| if a == 0.0 { 0.0 } else { a / b };
+        let change = rel(dn, nn).max(rel(dt, nt.max(1e-6 * nn)));
+        changes.push(change);
+        let q = changes
+            .iter()
+            .rev()
+            .take(4)
+            .zip(changes.iter().rev().skip(1))
+            .map(|(a, b)| if *b > 0.0 { a / b } else { 0.0 })
+            .fold(f64::NEG_INFINITY, f64::max);
+        estimate = if change == 0.0 {
+            0.0
+        } else if changes.len() < 2 || q.is_nan() || q >= 1.0 {
+            f64::INFINITY
+        } else {
+            change / (1.0 - q.max(0.0))
+        };
+    }
+    *prev = Some((ln.clone(), lt.clone()));
+    estimate
+}
+
+/// The monitor's line of fixed-point iteration m (`-ubr_monitor`).
+fn monitor(
+    m: usize,
+    run: &UbrOutcome,
+    inner: &UbrControl,
+    paper: bool,
+    fp_change: f64,
+    estimate: f64,
+) {
+    println!(
+        "  CF-FP {:3}: {} Tresca iterations (tol {:.0e}), ||s^(m+1) - s^m|| / ||s^(m+1)|| = {:.3e}{}, contact {} stick {} slip {}",
+        m,
+        run.iterations,
+        if paper { inner.rtol } else { inner.lambda_rtol },
+        fp_change,
+        if paper {
+            String::new()
+        } else {
+            format!(", outer error estimate {estimate:.3e}")
+        },
+        run.contact,
+        run.stick,
+        run.slip
+    );
 }

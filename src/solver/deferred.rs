@@ -24,11 +24,12 @@
 //! over iterations whose other tests already pass (checked on 60 runs of a
 //! sweep: every count equal).
 
-use super::linear::LinearSolver;
+use super::mass_norms;
 use super::stopping::paper_change;
 use super::surface::{Surface, SurfaceState};
-use super::{allreduce_max_n, allreduce_sum, mass_norms};
+use crate::comm::{allreduce_max_n, allreduce_sum};
 use crate::error::Error;
+use crate::linalg::linear::LinearSolver;
 use mpi::traits::*;
 
 const U2_MARGIN: f64 = 1.1;

@@ -4,18 +4,48 @@
 
 use super::stopping::StopRule;
 use super::surface::UbrState;
-use super::wellposed::Restraint;
 use super::{cf_fp, penalty, seat, snesvi, ssn, ubr, Problem};
+use crate::comm::{allreduce_max, allreduce_max_n};
 use crate::contact::{hertz, ContactSet};
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
-use crate::options::{Friction, HertzReference, Settings, TrescaBound};
+use crate::options::{Algorithm, Friction, HertzReference, Settings, TrescaBound};
 use crate::petsc::Events;
+use crate::wellposed::Restraint;
 use mpi::traits::*;
+
+/// The method that ran, by its name in the paper (UBR-C, UBR-TF, CF-FP)
+/// or the comparator's; [`std::fmt::Display`] writes that name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    UbrC,
+    UbrTf,
+    CfFp,
+    SsnC,
+    SnesVi,
+}
+
+impl Method {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Method::UbrC => "UBR-C",
+            Method::UbrTf => "UBR-TF",
+            Method::CfFp => "CF-FP",
+            Method::SsnC => "SSN-C",
+            Method::SnesVi => "SNES-VI",
+        }
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
 
 /// What the iterations produced, whichever algorithm ran.
 pub struct Solved {
-    pub name: &'static str,
+    pub name: Method,
     pub iterations: usize,
     pub fixed_point_iterations: usize,
     /// UBR iterations of the frictionless solve behind `-tresca_bound frictionless`.
@@ -34,7 +64,7 @@ pub struct Solved {
 impl Solved {
     fn new() -> Solved {
         Solved {
-            name: "UBR-C",
+            name: Method::UbrC,
             iterations: 0,
             fixed_point_iterations: 0,
             frictionless_iterations: 0,
@@ -49,7 +79,7 @@ impl Solved {
 
     /// The comparators, whose iterations have no UBR stopping test.
     pub fn is_comparator(&self) -> bool {
-        self.name == "SSN-C" || self.name == "SNES-VI"
+        matches!(self.name, Method::SsnC | Method::SnesVi)
     }
 
     /// Why the run did not converge, for the message of exit status 3.
@@ -64,7 +94,7 @@ impl Solved {
                 100.0 * self.last.tension
             );
         }
-        if self.name == "SSN-C" {
+        if self.name == Method::SsnC {
             return format!(
                 "SSN-C stopped after {} iterations (-ssn_max_it): the active set still changes",
                 self.iterations
@@ -189,7 +219,7 @@ impl BoundError {
             ext[1] = ext[1].max(lt);
             ext[2] = ext[2].max(sf.lambda_n[i].abs());
         }
-        let [slips, lt, ln] = super::allreduce_max_n(world, ext);
+        let [slips, lt, ln] = allreduce_max_n(world, ext);
         if slips == 0.0 {
             return 0.0;
         }
@@ -242,7 +272,7 @@ fn frictionless_bound<C: Communicator>(
         } else {
             0.0
         },
-        max_lambda_c: super::allreduce_max(world, max_lc),
+        max_lambda_c: allreduce_max(world, max_lc),
         nu_f,
         iterations: run.iterations,
     };
@@ -300,8 +330,8 @@ fn comparator<C: Communicator>(
 ) -> Result<(UbrState, Solved), Error> {
     let mut state = UbrState::new(problem)?;
     let mut solved = Solved::new();
-    let run = if settings.algorithm == "snesvi" {
-        solved.name = "SNES-VI";
+    let run = if settings.algorithm == Algorithm::SnesVi {
+        solved.name = Method::SnesVi;
         snesvi::snes_vi(world, problem, &mut state, &settings.ssn_initial_shift)?
     } else {
         let ctl = ssn::SsnControl {
@@ -309,8 +339,9 @@ fn comparator<C: Communicator>(
             max_it: settings.ssn_max_it,
             initial_shift: settings.ssn_initial_shift.clone(),
             monitor: settings.ubr.monitor,
+            linear: settings.linear.clone(),
         };
-        solved.name = "SSN-C";
+        solved.name = Method::SsnC;
         ssn::ssn_c(world, problem, local, &mut state, &ctl, events)?.0
     };
     solved.iterations = run.iterations;
@@ -332,7 +363,7 @@ fn drift_limit<C: Communicator>(world: &C, restraint: &Restraint, cs: &ContactSe
     if size == 0.0 {
         return f64::INFINITY;
     }
-    let gap = super::allreduce_max(world, cs.g.iter().fold(0.0f64, |m, g| m.max(g.abs())));
+    let gap = allreduce_max(world, cs.g.iter().fold(0.0f64, |m, g| m.max(g.abs())));
     10.0 * (size + gap)
 }
 
@@ -352,6 +383,59 @@ pub fn r_far<C: Communicator>(
     (!(1.0 / ubr::R_FAR..=ubr::R_FAR).contains(&ratio)).then_some(r0)
 }
 
+/// UBR-TF with the bound `s`; `bound_error`: the error of a bound from a
+/// frictionless solve, which adds to the estimate; where the sum misses
+/// the target, the Tresca solve goes on (warm) to a target that leaves
+/// room for it.
+#[allow(clippy::too_many_arguments)]
+fn tresca<C: Communicator>(
+    world: &C,
+    problem: &mut Problem,
+    state: &mut UbrState,
+    s: Vec<f64>,
+    ctl: &ubr::UbrControl,
+    bound_error: Option<BoundError>,
+    solved: &mut Solved,
+    events: &Events,
+) -> Result<(), Error> {
+    let accuracy = ctl.stop == StopRule::Accuracy;
+    let mut run = ubr::ubr(world, problem, state, Some(&s), ctl, events)?;
+    // The bound's own error adds to the estimate; where the sum
+    // misses the target, the Tresca solve goes on (warm) to a
+    // target that leaves room for it.
+    let added = match bound_error {
+        Some(e) if accuracy => e.relative(world, state),
+        _ => 0.0,
+    };
+    let budget = 0.25 * ctl.lambda_rtol;
+    if run.converged && added > 0.0 && run.error_estimate + added > budget && added < 0.5 * budget {
+        let more = ubr::UbrControl {
+            lambda_rtol: 4.0 * (budget - added),
+            max_it: ctl.max_it.saturating_sub(run.iterations),
+            ..*ctl
+        };
+        let first = run.iterations;
+        run = ubr::ubr(world, problem, state, Some(&s), &more, events)?;
+        run.iterations += first;
+    }
+    let total = run.error_estimate + added;
+    let missed = accuracy && run.converged && total > budget;
+    solved.take(run, accuracy);
+    if accuracy {
+        solved.error_estimate = Some(total);
+    }
+    if missed {
+        solved.converged = false;
+        solved.failure = Some(format!(
+            "UBR-TF: the error estimate of lambda {total:.3e} (the Tresca solve's {:.3e} and the frictionless bound's {added:.3e}) misses the target -ubr_lambda_rtol {:.1e} / 4: the bound nu_f lambda_c is not known accurately enough; try a looser -ubr_lambda_rtol",
+            total - added,
+            ctl.lambda_rtol
+        ));
+    }
+    solved.bound = s;
+    Ok(())
+}
+
 /// Runs the algorithm the options ask for. `restraint`: what holds the
 /// bodies (a body that contact alone holds and that starts away from the
 /// obstacle is first moved onto it, [`seat`]; where friction alone holds
@@ -365,7 +449,7 @@ pub fn solve<C: Communicator>(
     events: &Events,
 ) -> Result<(UbrState, Solved), Error> {
     let friction_held = restraint.friction_held;
-    if settings.algorithm != "ubr" {
+    if settings.algorithm != Algorithm::Ubr {
         return comparator(world, local, settings, problem, events);
     }
     let u = &settings.ubr;
@@ -402,7 +486,7 @@ pub fn solve<C: Communicator>(
             solved.take(run, accuracy);
         }
         Friction::Tresca => {
-            solved.name = "UBR-TF";
+            solved.name = Method::UbrTf;
             let s = match explicit {
                 Some(s) => s,
                 None => {
@@ -422,47 +506,19 @@ pub fn solve<C: Communicator>(
                     }
                 }
             };
-            let mut run = ubr::ubr(world, problem, &mut state, Some(&s), &ctl, events)?;
-            // The bound's own error adds to the estimate; where the sum
-            // misses the target, the Tresca solve goes on (warm) to a
-            // target that leaves room for it.
-            let added = match bound_error {
-                Some(e) if accuracy => e.relative(world, &state),
-                _ => 0.0,
-            };
-            let budget = 0.25 * ctl.lambda_rtol;
-            if run.converged
-                && added > 0.0
-                && run.error_estimate + added > budget
-                && added < 0.5 * budget
-            {
-                let more = ubr::UbrControl {
-                    lambda_rtol: 4.0 * (budget - added),
-                    max_it: ctl.max_it.saturating_sub(run.iterations),
-                    ..ctl
-                };
-                let first = run.iterations;
-                run = ubr::ubr(world, problem, &mut state, Some(&s), &more, events)?;
-                run.iterations += first;
-            }
-            let total = run.error_estimate + added;
-            let missed = accuracy && run.converged && total > budget;
-            solved.take(run, accuracy);
-            if accuracy {
-                solved.error_estimate = Some(total);
-            }
-            if missed {
-                solved.converged = false;
-                solved.failure = Some(format!(
-                    "UBR-TF: the error estimate of lambda {total:.3e} (the Tresca solve's {:.3e} and the frictionless bound's {added:.3e}) misses the target -ubr_lambda_rtol {:.1e} / 4: the bound nu_f lambda_c is not known accurately enough; try a looser -ubr_lambda_rtol",
-                    total - added,
-                    ctl.lambda_rtol
-                ));
-            }
-            solved.bound = s;
+            tresca(
+                world,
+                problem,
+                &mut state,
+                s,
+                &ctl,
+                bound_error,
+                &mut solved,
+                events,
+            )?;
         }
         Friction::Coulomb => {
-            solved.name = "CF-FP";
+            solved.name = Method::CfFp;
             // s^0 = 0 (the paper's frictionless first solve), unless
             // friction alone holds the body: that solve has no solution
             // then, and the first Tresca solve sticks (s^0 = infinity).

@@ -30,10 +30,11 @@
 //! its multigrid preconditioner.
 
 use super::surface::Surface;
-use super::wellposed::Restraint;
-use super::{allreduce_count, allreduce_max, allreduce_sum, allreduce_sum_vec, Problem};
+use super::Problem;
+use crate::comm::{allreduce_count, allreduce_max, allreduce_sum, allreduce_sum_vec};
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
+use crate::wellposed::Restraint;
 use mpi::traits::*;
 use nalgebra::{DMatrix, SymmetricEigen};
 
@@ -224,35 +225,16 @@ fn start_vector(mesh: &LocalMesh, surface: &Surface, space: &Space) -> Vec<f64> 
         .collect()
 }
 
-/// The extreme eigenvalues of `S_0` from Lanczos on `S_{r0}`; returns
-/// (sigma_min, sigma_max, steps), or None when the space is too small.
-pub fn spectrum<C: Communicator>(
+/// The rigid motions only contact holds, on the Lanczos space of `space`,
+/// orthonormal: exact eigenvectors of the compliance, deflated.
+fn deflation<C: Communicator>(
     world: &C,
-    problem: &mut Problem,
     restraint: &Restraint,
     mesh: &LocalMesh,
-    monitor: bool,
-) -> Result<Option<(f64, f64, usize)>, Error> {
-    let r0 = problem.r();
-    let decide_only = !problem.lin.is_condensed();
-    let d = problem.dim;
-    let work = problem.lin.rhs0.duplicate()?;
-    let Problem {
-        contact,
-        contact_dirichlet,
-        tangential,
-        lin,
-        ..
-    } = problem;
-    let surface = Surface {
-        cs: contact,
-        dim: d,
-        tangential: *tangential,
-        dirichlet: contact_dirichlet,
-    };
-    let space = Space::new(&surface);
-    let nc = surface.len();
-    // The rigid motions only contact holds: exact eigenvectors, deflated.
+    surface: &Surface,
+    space: &Space,
+) -> Vec<Vec<f64>> {
+    let (nc, d) = (surface.len(), surface.dim);
     let mut deflate: Vec<Vec<f64>> = Vec::new();
     for m in &restraint.contact_held {
         let mut x = vec![0.0; space.len()];
@@ -276,6 +258,60 @@ pub fn spectrum<C: Communicator>(
             deflate.push(x);
         }
     }
+    deflate
+}
+
+/// The eigenvalues sigma of `S_0` from the Ritz values tau of the Lanczos
+/// tridiagonal matrix (`alpha`, `beta`) of `S_{r0}`: `sigma = tau / (1 - r0
+/// tau)`, those that map.
+fn ritz_sigmas(alpha: &[f64], beta: &[f64], r0: f64) -> Vec<f64> {
+    let m = alpha.len();
+    let mut t = DMatrix::<f64>::zeros(m, m);
+    for i in 0..m {
+        t[(i, i)] = alpha[i];
+        if i + 1 < m {
+            t[(i, i + 1)] = beta[i];
+            t[(i + 1, i)] = beta[i];
+        }
+    }
+    let eig = SymmetricEigen::new(t);
+    eig.eigenvalues
+        .iter()
+        .filter(|&&tau| tau > 0.0 && r0 * tau < 1.0 - 1e-6)
+        .map(|&tau| tau / (1.0 - r0 * tau))
+        .collect()
+}
+
+/// The extreme eigenvalues of `S_0` from Lanczos on `S_{r0}`; returns
+/// (sigma_min, sigma_max, steps), or None when the space is too small.
+pub fn spectrum<C: Communicator>(
+    world: &C,
+    problem: &mut Problem,
+    restraint: &Restraint,
+    mesh: &LocalMesh,
+    monitor: bool,
+) -> Result<Option<(f64, f64, usize)>, Error> {
+    let r0 = problem.r();
+    let decide_only = !problem.lin.is_condensed();
+    let d = problem.dim;
+    let work = problem.lin.rhs0.duplicate()?;
+    let Problem {
+        contact,
+        dirichlet,
+        tangential,
+        lin,
+        ..
+    } = problem;
+    let surface = Surface {
+        cs: contact,
+        dim: d,
+        tangential: *tangential,
+        dirichlet: &dirichlet.contact,
+    };
+    let space = Space::new(&surface);
+    let nc = surface.len();
+    // The rigid motions only contact holds: exact eigenvectors, deflated.
+    let deflate = deflation(world, restraint, mesh, &surface, &space);
     let active = allreduce_count(world, space.active.iter().filter(|&&a| a).count());
     let dim = active.saturating_sub(deflate.len());
     if dim < 2 {
@@ -312,22 +348,7 @@ pub fn spectrum<C: Communicator>(
         orthogonalize(world, &basis, &mut w);
         let b = dot(world, &w, &w).sqrt();
         // Ritz values of the tridiagonal matrix so far.
-        let m = alpha.len();
-        let mut t = DMatrix::<f64>::zeros(m, m);
-        for i in 0..m {
-            t[(i, i)] = alpha[i];
-            if i + 1 < m {
-                t[(i, i + 1)] = beta[i];
-                t[(i + 1, i)] = beta[i];
-            }
-        }
-        let eig = SymmetricEigen::new(t);
-        let sigmas: Vec<f64> = eig
-            .eigenvalues
-            .iter()
-            .filter(|&&tau| tau > 0.0 && r0 * tau < 1.0 - 1e-6)
-            .map(|&tau| tau / (1.0 - r0 * tau))
-            .collect();
+        let sigmas = ritz_sigmas(&alpha, &beta, r0);
         if let (Some(lo), Some(hi)) = (
             sigmas.iter().copied().reduce(f64::min),
             sigmas.iter().copied().reduce(f64::max),
@@ -410,7 +431,7 @@ pub fn choose<C: Communicator>(
             cs: &problem.contact,
             dim: problem.dim,
             tangential: problem.tangential,
-            dirichlet: &problem.contact_dirichlet,
+            dirichlet: &problem.dirichlet.contact,
         };
         problem.lin.set_r(&surface, estimate, start)?;
         choice.r = estimate;

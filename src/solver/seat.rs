@@ -38,10 +38,11 @@
 //! a corner) the approach runs. So the paper's Hertz scene and every scene
 //! that starts touching keep the paper's iterates.
 
-use super::wellposed::Restraint;
-use super::{allreduce_sum_vec, Problem};
+use super::Problem;
+use crate::comm::{allreduce_max_n, allreduce_sum, allreduce_sum_vec};
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
+use crate::wellposed::Restraint;
 use mpi::traits::*;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
@@ -227,6 +228,67 @@ fn restrains(h: &DMatrix<f64>, full_max: f64) -> bool {
     eig.eigenvalues.iter().all(|&l| l > HELD_TOL * full_max)
 }
 
+/// The exact line search of the rigid approach from `x` along `p` (`s0`:
+/// the slope at 0, negative): the step where the slope, non-decreasing
+/// and piecewise linear, vanishes; None when it never does (unbounded).
+fn line_search<C: Communicator>(
+    world: &C,
+    rigid: &Rigid,
+    x: &DVector<f64>,
+    p: &DVector<f64>,
+    s0: f64,
+) -> Option<f64> {
+    // Bracket the zero of the (non-decreasing, piecewise linear) slope.
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    let (mut f_lo, mut f_hi) = (s0, rigid.slope(world, x, p, hi));
+    let mut n = 0;
+    while f_hi < 0.0 && n < MAX_SEARCH {
+        lo = hi;
+        f_lo = f_hi;
+        hi *= 4.0;
+        f_hi = rigid.slope(world, x, p, hi);
+        n += 1;
+    }
+    if f_hi < 0.0 {
+        return None;
+    }
+    // The secant point of the bracket (exact once no kink is left in
+    // it), or its middle (geometric where it spans decades) when the
+    // secant does not halve it.
+    let mut s = hi;
+    while n < MAX_SEARCH && hi - lo > SEARCH_TOL * hi {
+        let secant = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+        let middle = if lo > 0.0 && hi > 16.0 * lo {
+            (lo * hi).sqrt()
+        } else {
+            0.5 * (lo + hi)
+        };
+        let width = hi - lo;
+        let f_sec = rigid.slope(world, x, p, secant);
+        n += 1;
+        s = secant;
+        if f_sec.abs() <= SEARCH_TOL * s0.abs() {
+            break;
+        }
+        if f_sec < 0.0 {
+            (lo, f_lo) = (secant, f_sec);
+        } else {
+            (hi, f_hi) = (secant, f_sec);
+        }
+        if hi - lo > 0.5 * width && middle > lo && middle < hi {
+            let f_mid = rigid.slope(world, x, p, middle);
+            n += 1;
+            s = middle;
+            if f_mid < 0.0 {
+                (lo, f_lo) = (middle, f_mid);
+            } else {
+                (hi, f_hi) = (middle, f_mid);
+            }
+        }
+    }
+    Some(s)
+}
+
 /// The rigid approach (see the module documentation): None when the
 /// paper's initialization holds the body already, when no rigid motion is
 /// held by contact alone, or when the rigid problem has no minimizer (the
@@ -285,54 +347,9 @@ pub fn approach<C: Communicator>(
         if s0 >= 0.0 {
             break;
         }
-        // Bracket the zero of the (non-decreasing, piecewise linear) slope.
-        let (mut lo, mut hi) = (0.0f64, 1.0f64);
-        let (mut f_lo, mut f_hi) = (s0, rigid.slope(world, &x, &p, hi));
-        let mut n = 0;
-        while f_hi < 0.0 && n < MAX_SEARCH {
-            lo = hi;
-            f_lo = f_hi;
-            hi *= 4.0;
-            f_hi = rigid.slope(world, &x, &p, hi);
-            n += 1;
-        }
-        if f_hi < 0.0 {
+        let Some(s) = line_search(world, &rigid, &x, &p, s0) else {
             return Ok(None); // unbounded: the loads pull the body away
-        }
-        // The secant point of the bracket (exact once no kink is left in
-        // it), or its middle (geometric where it spans decades) when the
-        // secant does not halve it.
-        let mut s = hi;
-        while n < MAX_SEARCH && hi - lo > SEARCH_TOL * hi {
-            let secant = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
-            let middle = if lo > 0.0 && hi > 16.0 * lo {
-                (lo * hi).sqrt()
-            } else {
-                0.5 * (lo + hi)
-            };
-            let width = hi - lo;
-            let f_sec = rigid.slope(world, &x, &p, secant);
-            n += 1;
-            s = secant;
-            if f_sec.abs() <= SEARCH_TOL * s0.abs() {
-                break;
-            }
-            if f_sec < 0.0 {
-                (lo, f_lo) = (secant, f_sec);
-            } else {
-                (hi, f_hi) = (secant, f_sec);
-            }
-            if hi - lo > 0.5 * width && middle > lo && middle < hi {
-                let f_mid = rigid.slope(world, &x, &p, middle);
-                n += 1;
-                s = middle;
-                if f_mid < 0.0 {
-                    (lo, f_lo) = (middle, f_mid);
-                } else {
-                    (hi, f_hi) = (middle, f_mid);
-                }
-            }
-        }
+        };
         let step = &p * s;
         x += &step;
         if step.norm() <= 1e-14 * x.norm() {
@@ -357,8 +374,8 @@ pub fn approach<C: Communicator>(
         }
         approach = approach.max(an.abs());
     }
-    let [approach] = super::allreduce_max_n(world, [approach]);
-    let [touching] = super::allreduce_sum(world, [touching]);
+    let [approach] = allreduce_max_n(world, [approach]);
+    let [touching] = allreduce_sum(world, [touching]);
     Ok(Some(Seat {
         phi_n,
         lambda_n,

@@ -9,8 +9,10 @@
 
 use super::surface::UbrState;
 use super::ubr::UbrOutcome;
-use super::{allreduce_sum, Problem};
+use super::Problem;
+use crate::comm::allreduce_sum;
 use crate::error::{bad, Error};
+use crate::linalg::without_zero_couplings;
 use crate::petsc::{options, Snes};
 use mpi::traits::*;
 
@@ -36,7 +38,7 @@ pub fn snes_vi<C: Communicator>(
     let upper = problem.lin.rhs0.duplicate()?;
     lower.set(-FREE)?;
     upper.set(FREE)?;
-    let is_dir = &problem.is_dirichlet;
+    let is_dir = &problem.dirichlet.fixed;
     lower.write(|lo| {
         upper.write(|up| {
             for i in 0..nc {
@@ -55,7 +57,7 @@ pub fn snes_vi<C: Communicator>(
     })??;
     // Initial guess: the shift (projected onto the bounds), Dirichlet values kept.
     let mut xd = vec![0.0; is_dir.len()];
-    for &(i, v) in &problem.dirichlet {
+    for &(i, v) in &problem.dirichlet.dofs {
         xd[i] = v;
     }
     state.u.write(|u| {
@@ -74,7 +76,7 @@ pub fn snes_vi<C: Communicator>(
             })
         })
     })???;
-    let matrix = super::without_zero_couplings(&problem.lin.matrix, d)?;
+    let matrix = without_zero_couplings(&problem.lin.matrix, d)?;
     let snes = Snes::new_vi(&matrix, &problem.lin.rhs0, &lower, &upper)?;
     let (its, lits) = snes.solve(&state.u)?;
     state.inner_iterations.push(lits);

@@ -12,10 +12,13 @@
 
 use super::surface::UbrState;
 use super::ubr::UbrOutcome;
-use super::{allreduce_sum, linear_solver, Problem};
+use super::Problem;
+use crate::comm::allreduce_sum;
 use crate::error::Error;
+use crate::linalg::{linear_solver, without_zero_couplings};
 use crate::mesh::distribute::LocalMesh;
-use crate::petsc::sys;
+use crate::options::LinearBackend;
+use crate::petsc::{sys, Matrix, Vector};
 use mpi::traits::*;
 
 /// SSN-C settings.
@@ -26,6 +29,8 @@ pub struct SsnControl {
     /// Initial displacement added to every node (empty: u^0 = 0).
     pub initial_shift: Vec<f64>,
     pub monitor: bool,
+    /// The linear back-end (a KSP: SSN-C factorizes each iteration).
+    pub linear: LinearBackend,
 }
 
 /// Runs SSN-C; the result lands in `state` (u, u_n, lambda as stresses, active set).
@@ -47,15 +52,15 @@ pub fn ssn_c<C: Communicator>(
     let lambda_hat = 0.0;
     // The matrix without the zeroed Dirichlet couplings (as UBR's direct
     // back-end factorizes it); the contact terms go to the nodes' own blocks.
-    let base = super::without_zero_couplings(&problem.lin.matrix, d)?;
+    let base = without_zero_couplings(&problem.lin.matrix, d)?;
     let a = base.duplicate()?;
-    let (ksp, description, iterative) = linear_solver(&a, mesh)?;
+    let (ksp, description, iterative) = linear_solver(&a, mesh, &ctl.linear)?;
     let work = problem.lin.rhs0.duplicate()?;
     let rhs = problem.lin.rhs0.duplicate()?;
-    let is_dir = &problem.is_dirichlet;
+    let is_dir = &problem.dirichlet.fixed;
     // Dirichlet values at the owned dofs, for the lifting of the contact terms.
     let mut xd = vec![0.0; is_dir.len()];
-    for &(i, v) in &problem.dirichlet {
+    for &(i, v) in &problem.dirichlet.dofs {
         xd[i] = v;
     }
     // (1) u^0
@@ -118,45 +123,7 @@ pub fn ssn_c<C: Communicator>(
         // (4) K + r B_A^T W B_A, same pattern as K: numeric factorization only.
         {
             let _e = events.rhs.begin();
-            a.copy_from(&base)?;
-            let g0 = mesh.owned_start * d;
-            let mut idx = Vec::with_capacity(d);
-            let mut vals = Vec::with_capacity(d * d);
-            for i in (0..nc).filter(|&i| active[i]) {
-                let base = cs.node[i] * d;
-                let rw = r * cs.w[i];
-                idx.clear();
-                vals.clear();
-                for c in 0..d {
-                    // Dirichlet rows and columns stay eliminated.
-                    idx.push(if is_dir[base + c] {
-                        -1
-                    } else {
-                        (g0 + base + c) as sys::PetscInt
-                    });
-                }
-                for ci in 0..d {
-                    for cj in 0..d {
-                        vals.push(rw * n[ci] * n[cj]);
-                    }
-                }
-                a.add_values(&idx, &idx, &vals)?;
-            }
-            a.assemble()?;
-            rhs.copy_from(&problem.lin.rhs0)?;
-            rhs.write(|b| {
-                for i in (0..nc).filter(|&i| active[i]) {
-                    let base = cs.node[i] * d;
-                    let w = cs.w[i];
-                    // r g - lambda_hat along n, lifted by the prescribed components.
-                    let lift: f64 = (0..d).map(|c| n[c] * xd[base + c]).sum();
-                    for c in 0..d {
-                        if !is_dir[base + c] {
-                            b[base + c] += w * n[c] * (r * cs.g[i] - lambda_hat - r * lift);
-                        }
-                    }
-                }
-            })?;
+            active_system(problem, mesh, r, &active, &xd, &base, &a, &rhs)?;
         }
         ksp.set_operators(&a)?;
         let its = {
@@ -165,54 +132,145 @@ pub fn ssn_c<C: Communicator>(
         };
         state.inner_iterations.push(its);
         if !iterative {
-            // A direct solve of a singular system (a body free to move that no
-            // active node holds) does not always fail: check the residual.
-            a.mult(&state.u, &work)?;
-            work.axpy(-1.0, &rhs)?;
-            let (res, bn) = (work.norm2()?, rhs.norm2()?);
-            if res.is_nan() || res > 1e-6 * bn.max(f64::MIN_POSITIVE) {
-                let hint = if count == 0.0 {
-                    "; no contact node is active and the body is free to move: give an initial guess that touches (-ssn_initial_shift, the paper uses 0,-0.01)"
-                } else {
-                    ""
-                };
-                return Err(Error::LinearSolver(format!(
-                    "SSN-C iteration {k}: the linear system is singular (relative residual {:.1e}){hint}",
-                    res / bn
-                )));
-            }
+            check_direct_solve(&a, &state.u, &rhs, &work, k, count)?;
         }
         k += 1;
         out.iterations = k;
     }
     // lambda^{k} = lambda_hat + r(u_n - g) on A, 0 elsewhere; it is also -sigma_n(u).
     let _e = events.projection.begin();
-    let counts = state.u.read(|u| {
+    let counts = multipliers(problem, r, &active, state)?;
+    let [contact] = allreduce_sum(world, [counts]);
+    out.contact = contact as usize;
+    out.criterion = 0.0;
+    out.residual = 0.0;
+    Ok((out, description))
+}
+
+/// Step (4): `K + r B_A^T W B_A` of the active set into `a` (from `base`,
+/// the same pattern), and its right-hand side into `rhs`.
+#[allow(clippy::too_many_arguments)]
+fn active_system(
+    problem: &Problem,
+    mesh: &LocalMesh,
+    r: f64,
+    active: &[bool],
+    xd: &[f64],
+    base: &Matrix,
+    a: &Matrix,
+    rhs: &Vector,
+) -> Result<(), Error> {
+    let d = problem.dim;
+    let cs = &problem.contact;
+    let (nc, n) = (cs.len(), &cs.n);
+    let is_dir = &problem.dirichlet.fixed;
+    let lambda_hat = 0.0;
+    a.copy_from(base)?;
+    let g0 = mesh.owned_start * d;
+    let mut idx = Vec::with_capacity(d);
+    let mut vals = Vec::with_capacity(d * d);
+    for i in (0..nc).filter(|&i| active[i]) {
+        let base = cs.node[i] * d;
+        let rw = r * cs.w[i];
+        idx.clear();
+        vals.clear();
+        for c in 0..d {
+            // Dirichlet rows and columns stay eliminated.
+            idx.push(if is_dir[base + c] {
+                -1
+            } else {
+                (g0 + base + c) as sys::PetscInt
+            });
+        }
+        for ci in 0..d {
+            for cj in 0..d {
+                vals.push(rw * n[ci] * n[cj]);
+            }
+        }
+        a.add_values(&idx, &idx, &vals)?;
+    }
+    a.assemble()?;
+    rhs.copy_from(&problem.lin.rhs0)?;
+    rhs.write(|b| {
+        for i in (0..nc).filter(|&i| active[i]) {
+            let base = cs.node[i] * d;
+            let w = cs.w[i];
+            // r g - lambda_hat along n, lifted by the prescribed components.
+            let lift: f64 = (0..d).map(|c| n[c] * xd[base + c]).sum();
+            for c in 0..d {
+                if !is_dir[base + c] {
+                    b[base + c] += w * n[c] * (r * cs.g[i] - lambda_hat - r * lift);
+                }
+            }
+        }
+    })?;
+    Ok(())
+}
+
+/// The multipliers `lambda = lambda_hat + r (u_n - g)` on the active set, 0
+/// elsewhere, with u_n, u_t and the statuses, into `state`; returns this
+/// rank's count in contact.
+#[allow(clippy::needless_range_loop)] // per-candidate arrays indexed together
+fn multipliers(
+    problem: &Problem,
+    r: f64,
+    active: &[bool],
+    state: &mut UbrState,
+) -> Result<f64, Error> {
+    let d = problem.dim;
+    let cs = &problem.contact;
+    let (nc, n) = (cs.len(), &cs.n);
+    let lambda_hat = 0.0;
+    let surface = &mut state.surface;
+    state.u.read(|u| {
         let mut contact = 0.0;
         for i in 0..nc {
             let base = cs.node[i] * d;
             let un: f64 = (0..d).map(|c| u[base + c] * n[c]).sum();
-            state.surface.un[i] = un;
+            surface.un[i] = un;
             for c in 0..d {
-                state.surface.ut[i * d + c] = u[base + c] - un * n[c];
+                surface.ut[i * d + c] = u[base + c] - un * n[c];
             }
             let l = if active[i] {
                 lambda_hat + r * (un - cs.g[i])
             } else {
                 0.0
             };
-            state.surface.stress_n[i] = l;
-            state.surface.lambda_n[i] = l;
-            state.surface.in_contact[i] = active[i];
+            surface.stress_n[i] = l;
+            surface.lambda_n[i] = l;
+            surface.in_contact[i] = active[i];
             if active[i] {
                 contact += 1.0;
             }
         }
         contact
-    })?;
-    let [contact] = allreduce_sum(world, [counts]);
-    out.contact = contact as usize;
-    out.criterion = 0.0;
-    out.residual = 0.0;
-    Ok((out, description))
+    })
+}
+
+/// A direct solve of a singular system (a body free to move that no
+/// active node holds) does not always fail: its residual is checked
+/// (`work`: scratch), at iteration k with `count` nodes active.
+fn check_direct_solve(
+    a: &Matrix,
+    u: &Vector,
+    rhs: &Vector,
+    work: &Vector,
+    k: usize,
+    count: f64,
+) -> Result<(), Error> {
+    a.mult(u, work)?;
+    work.axpy(-1.0, rhs)?;
+    let (res, bn) = (work.norm2()?, rhs.norm2()?);
+    if res.is_nan() || res > 1e-6 * bn.max(f64::MIN_POSITIVE) {
+        let hint = if count == 0.0 {
+            "; no contact node is active and the body is free to move: give an initial guess that touches (-ssn_initial_shift, the paper uses 0,-0.01)"
+        } else {
+            ""
+        };
+        return Err(Error::LinearSolver(format!(
+            "SSN-C iteration {k}: the linear system is singular (relative residual {:.1e}){hint}",
+            res / bn
+        )));
+    }
+    Ok(())
 }

@@ -37,14 +37,7 @@ pub fn paper_change(du2: f64, dphi2: f64, u2: f64, phi2: f64) -> f64 {
     }
 }
 
-/// Which stopping test (`-ubr_stop`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum StopRule {
-    /// The error estimate of lambda below `-ubr_lambda_rtol`.
-    Accuracy,
-    /// The paper's (4.16)/(5.6), with `-ubr_rtol` and `-ubr_residual_tol`.
-    Paper,
-}
+pub use crate::options::StopRule;
 
 /// Evaluations without progress after which a run has stalled: its
 /// smallest residual P has not fallen by 3% ([`STALL_FACTOR`]) in that

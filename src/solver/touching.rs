@@ -9,9 +9,9 @@
 //! bounding boxes are tested, against the cells of the other part there:
 //! one gather of those nodes, each rank testing its own cells.
 
-use super::wellposed::Bodies;
-use super::Layout;
+use crate::comm::Layout;
 use crate::mesh::distribute::LocalMesh;
+use crate::wellposed::Bodies;
 use mpi::collective::SystemOperation;
 use mpi::traits::*;
 
@@ -116,38 +116,7 @@ pub fn touching<C: Communicator>(
         }
         p
     };
-    // Each part's bounding box (at x + u), from the owned nodes.
-    let mut hi = vec![f64::NEG_INFINITY; nb * 3];
-    let mut lo = vec![f64::NEG_INFINITY; nb * 3]; // of -x
-    for v in 0..mesh.owned_count {
-        let b = bodies.node_body[v];
-        let p = pos(v);
-        for c in 0..d {
-            hi[b * 3 + c] = hi[b * 3 + c].max(p[c]);
-            lo[b * 3 + c] = lo[b * 3 + c].max(-p[c]);
-        }
-    }
-    let mut ghi = vec![0.0f64; nb * 3];
-    let mut glo = vec![0.0f64; nb * 3];
-    world.all_reduce_into(&hi[..], &mut ghi[..], SystemOperation::max());
-    world.all_reduce_into(&lo[..], &mut glo[..], SystemOperation::max());
-    // The overlapping pairs and their overlap boxes.
-    let mut pairs: Vec<(usize, usize, [f64; 3], [f64; 3])> = Vec::new();
-    for a in 0..nb {
-        for b in a + 1..nb {
-            let tol = BOX_TOL * bodies.size(a).max(bodies.size(b));
-            let (mut l, mut h) = ([0.0; 3], [0.0; 3]);
-            let mut overlap = true;
-            for c in 0..d {
-                l[c] = (-glo[a * 3 + c]).max(-glo[b * 3 + c]) - tol;
-                h[c] = ghi[a * 3 + c].min(ghi[b * 3 + c]) + tol;
-                overlap &= l[c] <= h[c];
-            }
-            if overlap {
-                pairs.push((a, b, l, h));
-            }
-        }
-    }
+    let pairs = overlapping_pairs(world, mesh, bodies, &pos);
     if pairs.is_empty() {
         return Vec::new();
     }
@@ -235,6 +204,53 @@ pub fn touching<C: Communicator>(
         }
     }
     out
+}
+
+/// Two parts whose bounding boxes overlap, and the overlap box (low, high).
+type Pair = (usize, usize, [f64; 3], [f64; 3]);
+
+/// The pairs of parts whose bounding boxes (at `pos`, padded by
+/// [`BOX_TOL`]) overlap, the same on every rank.
+fn overlapping_pairs<C: Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    bodies: &Bodies,
+    pos: &dyn Fn(usize) -> [f64; 3],
+) -> Vec<Pair> {
+    let (nb, d) = (bodies.len(), mesh.dim);
+    // Each part's bounding box (at x + u), from the owned nodes.
+    let mut hi = vec![f64::NEG_INFINITY; nb * 3];
+    let mut lo = vec![f64::NEG_INFINITY; nb * 3]; // of -x
+    for v in 0..mesh.owned_count {
+        let b = bodies.node_body[v];
+        let p = pos(v);
+        for c in 0..d {
+            hi[b * 3 + c] = hi[b * 3 + c].max(p[c]);
+            lo[b * 3 + c] = lo[b * 3 + c].max(-p[c]);
+        }
+    }
+    let mut ghi = vec![0.0f64; nb * 3];
+    let mut glo = vec![0.0f64; nb * 3];
+    world.all_reduce_into(&hi[..], &mut ghi[..], SystemOperation::max());
+    world.all_reduce_into(&lo[..], &mut glo[..], SystemOperation::max());
+    // The overlapping pairs and their overlap boxes.
+    let mut pairs: Vec<Pair> = Vec::new();
+    for a in 0..nb {
+        for b in a + 1..nb {
+            let tol = BOX_TOL * bodies.size(a).max(bodies.size(b));
+            let (mut l, mut h) = ([0.0; 3], [0.0; 3]);
+            let mut overlap = true;
+            for c in 0..d {
+                l[c] = (-glo[a * 3 + c]).max(-glo[b * 3 + c]) - tol;
+                h[c] = ghi[a * 3 + c].min(ghi[b * 3 + c]) + tol;
+                overlap &= l[c] <= h[c];
+            }
+            if overlap {
+                pairs.push((a, b, l, h));
+            }
+        }
+    }
+    pairs
 }
 
 /// The warning for parts that touch (`deformed`: in the deformed shape).

@@ -27,8 +27,10 @@
 //! other than 1 for MUMPS' own ordering K (with a Schur complement MUMPS
 //! may replace it by AMD).
 
-use super::surface::Surface;
-use super::Layout;
+pub use super::schur::SchurLayout;
+use super::schur::{host_schur, schur_factor, schur_memory, SCHUR_BLOCK};
+use crate::comm::{allreduce_max, allreduce_sum, Layout};
+use crate::contact::surface::Surface;
 use crate::dense::{sym_upper_mv, SpdFactor};
 use crate::error::Error;
 use crate::fem::Adjacency;
@@ -329,7 +331,7 @@ fn choose_ordering<C: Communicator>(
 /// own, with its message; the others' one of that kind, whose message
 /// nobody prints: only rank 0 prints a collective error), none waits in a
 /// later collective call.
-fn host_verdict<C: Communicator>(world: &C, failed: Option<Error>) -> Result<(), Error> {
+pub(super) fn host_verdict<C: Communicator>(world: &C, failed: Option<Error>) -> Result<(), Error> {
     // The kind, as the exit status of the error (0: none failed).
     let mut status = failed.as_ref().map_or(0, |e| e.exit_code());
     world.process_at_rank(0).broadcast_into(&mut status);
@@ -350,123 +352,55 @@ fn host_failed<C: Communicator>(world: &C, failed: bool, what: &str) -> Result<(
     host_verdict(world, failed.then(|| Error::LinearSolver(what.into())))
 }
 
-/// The error of a dense Schur array of order `m` that rank 0 cannot
-/// allocate (`bytes`).
-fn schur_memory(m: usize, bytes: usize) -> Error {
-    Error::OutOfMemory(format!(
-        "rank 0 cannot allocate the dense Schur complement on the {m} contact unknowns ({:.1} MiB a copy); -ubr_condense_max 0 solves without it, in less memory on rank 0",
-        bytes as f64 / (1u64 << 20) as f64
-    ))
-}
-
-/// The host's Schur complement as MUMPS returned it, its dense Cholesky
-/// factor, and the host's error when the factorization fails (a matrix
-/// that is not positive definite: `K_r` singular or nearly so).
-fn schur_factor<C: Communicator>(
-    world: &C,
-    upper: &[f64],
-    m: usize,
-) -> (Vec<f64>, Option<SpdFactor>, Option<Error>) {
-    if world.rank() != 0 {
-        return (Vec::new(), None, None);
-    }
-    let copies = crate::dense::try_copy(upper)
-        .and_then(|s_raw| Ok((crate::dense::try_copy(&s_raw)?, s_raw)));
-    let (s, s_raw) = match copies {
-        Ok(c) => c,
-        Err(bytes) => return (Vec::new(), None, Some(schur_memory(m, bytes))),
-    };
-    match SpdFactor::new(m, s) {
-        Ok(f) => (s_raw, Some(f), None),
-        Err(k) => (s_raw, None, Some(Error::LinearSolver(format!(
-            "the dense factorization of the Schur complement on the {m} contact unknowns failed (LAPACK's Cholesky: its leading minor of order {k} is not positive definite): the matrix K + r B^T W B is singular or nearly so"
-        )))),
-    }
-}
-
-/// Where MUMPS builds the Schur complement of a condensed back-end.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum SchurLayout {
-    /// On the host (ICNTL(19) = 1).
-    Centralized,
-    /// Over every rank (ICNTL(19) = 3, a 1 x P grid), gathered on the host.
-    Distributed,
-}
-
-/// Column block of a distributed Schur complement (ScaLAPACK's NB).
-const SCHUR_BLOCK: usize = 64;
-
-/// The number of rows or columns of an order-`n` matrix that process `p`
-/// of `procs` holds in blocks of `nb` (ScaLAPACK's NUMROC, first block on
-/// process 0).
-fn numroc(n: usize, nb: usize, p: usize, procs: usize) -> usize {
-    let blocks = n / nb;
-    let mut count = (blocks / procs) * nb;
-    let extra = blocks % procs;
-    if p < extra {
-        count += nb;
-    } else if p == extra {
-        count += n % nb;
-    }
-    count
-}
-
-/// The distributed Schur complement (each rank's column blocks of the
-/// 1 x P grid, `local`, column-major with every row) gathered on the host
-/// as the whole `m x m` matrix, column-major (empty elsewhere). Process
-/// column p of MUMPS' grid is rank p; a part of another size than that
-/// mapping gives is an internal error.
-fn gather_schur<C: Communicator>(
-    world: &C,
-    local: &[f64],
-    m: usize,
-    nb: usize,
-) -> Result<Vec<f64>, Error> {
-    let procs = world.size() as usize;
-    let mine = numroc(m, nb, world.rank() as usize, procs) * m;
-    let part = &local[..mine.min(local.len())];
-    let layout = Layout::new(world, part.len());
-    let all = layout.gather(world, part);
-    let ok =
-        world.rank() != 0 || (0..procs).all(|p| layout.count(p) == numroc(m, nb, p, procs) * m);
-    host_verdict(
-        world,
-        (!ok).then(|| {
-            Error::Internal(
-                "the distributed Schur complement's parts are not the 1 x P grid's".into(),
-            )
-        }),
-    )?;
-    if world.rank() != 0 {
-        return Ok(Vec::new());
-    }
-    let mut full = crate::dense::try_zeros(m * m).map_err(|bytes| schur_memory(m, bytes))?;
-    let mut offset = 0;
-    for p in 0..procs {
-        let nloc = numroc(m, nb, p, procs);
-        for jl in 0..nloc {
-            let j = (jl / nb) * procs * nb + p * nb + jl % nb;
-            full[j * m..(j + 1) * m].copy_from_slice(&all[offset + jl * m..offset + (jl + 1) * m]);
+/// The user's MUMPS options (`-mat_mumps_icntl_N`, `-mat_mumps_cntl_N`),
+/// but those this back-end sets.
+fn user_options(mumps: &mut Mumps) -> Result<(), Error> {
+    // The user's MUMPS options, but those this back-end sets.
+    for i in 1..=60usize {
+        if OWNED_ICNTL.contains(&i) {
+            continue;
         }
-        offset += nloc * m;
+        if let Some(v) = options::get_string(&format!("-mat_mumps_icntl_{i}"))? {
+            let v: i32 = v.trim().parse().map_err(|_| {
+                Error::BadInput(format!(
+                    "option -mat_mumps_icntl_{i}: '{v}' is not an integer"
+                ))
+            })?;
+            mumps.set_icntl(i, v);
+        }
     }
-    Ok(full)
+    for i in 1..=15usize {
+        if let Some(v) = options::get_string(&format!("-mat_mumps_cntl_{i}"))? {
+            let v: f64 = v.trim().parse().map_err(|_| {
+                Error::BadInput(format!("option -mat_mumps_cntl_{i}: '{v}' is not a number"))
+            })?;
+            mumps.set_cntl(i, v);
+        }
+    }
+    Ok(())
 }
 
-/// The Schur complement on the host after a factorization (its upper
-/// triangle column-major; empty elsewhere): MUMPS' own array, or the
-/// distributed parts gathered.
-fn host_schur<'a, C: Communicator>(
+/// The contact nodes (global numbers) of every rank, in the Schur order:
+/// rank by rank, candidate by candidate, on the host (empty elsewhere); and
+/// their number, on every rank.
+fn contact_nodes<C: Communicator>(
     world: &C,
-    mumps: &'a Mumps,
-    m: usize,
-    distributed: bool,
-) -> Result<std::borrow::Cow<'a, [f64]>, Error> {
-    Ok(if distributed {
-        std::borrow::Cow::Owned(gather_schur(world, mumps.schur_local(), m, SCHUR_BLOCK)?)
-    } else {
-        std::borrow::Cow::Borrowed(mumps.schur_upper())
-    })
+    mesh: &LocalMesh,
+    surface: &Surface,
+) -> (Vec<usize>, usize) {
+    let mine: Vec<f64> = surface
+        .cs
+        .node
+        .iter()
+        .map(|&v| mesh.node_global[v] as f64)
+        .collect();
+    let layout = Layout::new(world, mine.len());
+    let nodes = layout
+        .gather(world, &mine)
+        .iter()
+        .map(|&x| x as usize)
+        .collect();
+    (nodes, layout.total())
 }
 
 impl Direct {
@@ -495,43 +429,9 @@ impl Direct {
         let mut mumps = Mumps::new(crate::petsc::comm_world(), world.rank(), true)?;
         drop(ev_init);
         mumps.set_matrix(n, irn, jcn, val);
-        // The user's MUMPS options, but those this back-end sets.
-        for i in 1..=60usize {
-            if OWNED_ICNTL.contains(&i) {
-                continue;
-            }
-            if let Some(v) = options::get_string(&format!("-mat_mumps_icntl_{i}"))? {
-                let v: i32 = v.trim().parse().map_err(|_| {
-                    Error::BadInput(format!(
-                        "option -mat_mumps_icntl_{i}: '{v}' is not an integer"
-                    ))
-                })?;
-                mumps.set_icntl(i, v);
-            }
-        }
-        for i in 1..=15usize {
-            if let Some(v) = options::get_string(&format!("-mat_mumps_cntl_{i}"))? {
-                let v: f64 = v.trim().parse().map_err(|_| {
-                    Error::BadInput(format!("option -mat_mumps_cntl_{i}: '{v}' is not a number"))
-                })?;
-                mumps.set_cntl(i, v);
-            }
-        }
-        // The contact nodes (global numbers), in the Schur order: rank by
-        // rank, candidate by candidate.
-        let mine: Vec<f64> = surface
-            .cs
-            .node
-            .iter()
-            .map(|&v| mesh.node_global[v] as f64)
-            .collect();
-        let layout = Layout::new(world, mine.len());
-        let contact_global: Vec<usize> = layout
-            .gather(world, &mine)
-            .iter()
-            .map(|&x| x as usize)
-            .collect();
-        let m = layout.total() * comps.len();
+        user_options(&mut mumps)?;
+        let (contact_global, candidates) = contact_nodes(world, mesh, surface);
+        let m = candidates * comps.len();
         let dof_layout = Layout::new(world, mesh.owned_count * d);
         let distributed = schur == Some(SchurLayout::Distributed) && world.size() > 1;
         let mut prepared = Ok(());
@@ -565,7 +465,7 @@ impl Direct {
         let analysis = analysis.and_then(|ordering| {
             if condense && distributed {
                 let failed = mumps.size_distributed_schur().err();
-                let worst = super::allreduce_max(world, failed.unwrap_or(0) as f64);
+                let worst = allreduce_max(world, failed.unwrap_or(0) as f64);
                 if worst > 0.0 {
                     return Err(schur_memory(m, worst as usize));
                 }
@@ -946,7 +846,7 @@ impl Direct {
             }
         })?;
         // Collective: every rank returns, none waits in MUMPS.
-        let [lost] = super::allreduce_sum(world, [if lost { 1.0 } else { 0.0 }]);
+        let [lost] = allreduce_sum(world, [if lost { 1.0 } else { 0.0 }]);
         if lost > 0.0 {
             return Err(Error::Internal(
                 "an entry left out of MUMPS' input is no longer zero".into(),

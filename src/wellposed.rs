@@ -12,9 +12,9 @@
 //! the Dirichlet-eliminated stiffness K: only the augmentation terms
 //! `r B^T W B` hold them in `K + r B^T W B` (the paper's floating Hertz body,
 //! section 4.1's remark). They are returned for the choice of r, whose
-//! spectrum they would otherwise dominate ([`super::penalty`]).
+//! spectrum they would otherwise dominate ([`crate::solver::penalty`]).
 
-use super::{allreduce_sum_vec, Layout};
+use crate::comm::{allreduce_count, allreduce_max_vec, allreduce_sum_vec, Layout};
 use crate::contact::ContactSet;
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
@@ -116,7 +116,7 @@ impl Bodies {
                 }
                 changed
             })?;
-            if super::allreduce_count(world, changed) == 0 {
+            if allreduce_count(world, changed) == 0 {
                 break;
             }
         }
@@ -280,12 +280,6 @@ impl Bodies {
             dir(w, wn)
         )
     }
-}
-
-fn allreduce_max_vec<C: Communicator>(world: &C, v: &[f64]) -> Vec<f64> {
-    let mut out = vec![0.0; v.len()];
-    world.all_reduce_into(v, &mut out[..], mpi::collective::SystemOperation::max());
-    out
 }
 
 /// What holds the bodies: the motions only contact holds (for the choice of
@@ -545,30 +539,8 @@ pub fn check_loads<C: Communicator>(
     }
     let b = allreduce_sum_vec(world, &b);
     let (b, resultant) = b.split_at(k);
-    // The tangent directions of the rays: +-t in 2D, CONE_RAYS around n in 3D.
     let n = &cs.n;
-    let tangents = tangent_rays(n);
-    let nu = coulomb.unwrap_or(0.0);
-    // The outer polygon: its rays reach nu / cos(pi / CONE_RAYS) in 3D.
-    let nu_out = if d == 3 {
-        nu / (std::f64::consts::PI / CONE_RAYS as f64).cos()
-    } else {
-        nu
-    };
-    let rays: Vec<[f64; 3]> = if coulomb.is_some() && nu > 0.0 {
-        tangents
-            .iter()
-            .map(|t| {
-                [
-                    n[0] + nu_out * t[0],
-                    n[1] + nu_out * t[1],
-                    n.get(2).copied().unwrap_or(0.0) + nu_out * t[2],
-                ]
-            })
-            .collect()
-    } else {
-        vec![[n[0], n[1], n.get(2).copied().unwrap_or(0.0)]]
-    };
+    let rays = cone_rays(n, d, coulomb);
     // The columns of the owned candidates, gathered on rank 0.
     let mut cols: Vec<f64> = Vec::with_capacity(cs.len() * k * rays.len());
     for (i, &v) in cs.node.iter().enumerate() {
@@ -604,6 +576,52 @@ pub fn check_loads<C: Communicator>(
     if verdict[0] == 0.0 {
         return Ok(());
     }
+    Err(Error::IllPosed(ill_posed(
+        restraint, resultant, n, d, coulomb, verdict[1],
+    )))
+}
+
+/// The rays of the (outer polygon of the) friction cone around n of
+/// `coulomb`'s coefficient, or n alone (frictionless).
+fn cone_rays(n: &[f64], d: usize, coulomb: Option<f64>) -> Vec<[f64; 3]> {
+    let nu = coulomb.unwrap_or(0.0);
+    // The tangent directions of the rays: +-t in 2D, CONE_RAYS around n in 3D.
+    let tangents = tangent_rays(n);
+    // The outer polygon: its rays reach nu / cos(pi / CONE_RAYS) in 3D.
+    let nu_out = if d == 3 {
+        nu / (std::f64::consts::PI / CONE_RAYS as f64).cos()
+    } else {
+        nu
+    };
+    if coulomb.is_some() && nu > 0.0 {
+        tangents
+            .iter()
+            .map(|t| {
+                [
+                    n[0] + nu_out * t[0],
+                    n[1] + nu_out * t[1],
+                    n.get(2).copied().unwrap_or(0.0) + nu_out * t[2],
+                ]
+            })
+            .collect()
+    } else {
+        vec![[n[0], n[1], n.get(2).copied().unwrap_or(0.0)]]
+    }
+}
+
+/// Why the loads cannot be held: in words of the resultant where the
+/// contact alone holds every translation of a single body, else of the
+/// motions (`residual`: the relative residual of the best contact forces).
+fn ill_posed(
+    restraint: &Restraint,
+    resultant: &[f64],
+    n: &[f64],
+    d: usize,
+    coulomb: Option<f64>,
+    residual: f64,
+) -> String {
+    let (modes, bodies) = (&restraint.contact_held, &restraint.bodies);
+    let nu = coulomb.unwrap_or(0.0);
     let fmt = |v: f64| format!("{v:.4e}");
     let hint = "check the signs of the loads, the contact direction (-contact_direction points from the body toward the obstacle) and the obstacle's position";
     // The resultant speaks plainly where the contact alone holds every
@@ -618,7 +636,7 @@ pub fn check_loads<C: Communicator>(
         .map(|c| (resultant[c] - f_n * n[c]).powi(2))
         .sum::<f64>()
         .sqrt();
-    let message = if translations_free && f_n <= 0.0 {
+    if translations_free && f_n <= 0.0 {
         format!(
             "the loads pull the body off the obstacle: their resultant along the contact direction is {} (it must push the body onto the obstacle, > 0), and nothing else holds the body; {hint}",
             fmt(f_n)
@@ -634,15 +652,14 @@ pub fn check_loads<C: Communicator>(
     } else if coulomb.is_some() {
         format!(
             "the contact cannot hold the loads: along the rigid motions that no Dirichlet condition restrains, no contact forces within the friction cone (|lambda_t| <= nu_f lambda_n = {nu} lambda_n) balance them (relative residual {:.2}), so the body slides, tips or lifts off; lower the loads, raise -friction_coefficient, or add a Dirichlet condition; {hint}",
-            verdict[1]
+            residual
         )
     } else {
         format!(
             "the loads pull the body off the obstacle: along the motions that only the contact holds, no contact pressure (which can only push) balances them (relative residual {:.2}), so nothing holds the body; {hint}",
-            verdict[1]
+            residual
         )
-    };
-    Err(Error::IllPosed(message))
+    }
 }
 
 /// Unit tangents of the friction cone's rays around n: `t, -t` in 2D

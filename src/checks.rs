@@ -6,10 +6,8 @@
 //! fixed-point step (its Coulomb bound nu_f lambda_n is then 0): it says
 //! nothing about the friction law, and is left out of its checks.
 
-use super::surface::UbrState;
-use super::{
+use crate::comm::{
     allreduce_count, allreduce_max, allreduce_max_n, allreduce_sum, allreduce_sum_vec,
-    ContactTerms, Problem,
 };
 use crate::contact::ContactSet;
 use crate::error::Error;
@@ -17,6 +15,9 @@ use crate::fem;
 use crate::mesh::distribute::LocalMesh;
 use crate::options::{Friction, Settings};
 use crate::petsc::{sys, Gather, Vector};
+use crate::solver::outcome::Method;
+use crate::solver::surface::UbrState;
+use crate::solver::{ContactTerms, Problem};
 use mpi::traits::*;
 
 /// The discrete optimality conditions at the returned iterate.
@@ -165,7 +166,7 @@ fn equilibrium(p: &Problem, st: &UbrState) -> Result<(f64, f64), Error> {
                 }
                 let (mut eq2, mut f2, mut l2) = (0.0, 0.0, 0.0);
                 for (i, ai) in a.iter().enumerate() {
-                    if !p.is_dirichlet[i] {
+                    if !p.dirichlet.fixed[i] {
                         eq2 += ai * ai;
                         f2 += f[i] * f[i];
                         // Loaded by prescribed displacements: their lifting load.
@@ -301,7 +302,12 @@ pub fn diagnostics<C: Communicator>(
 /// A direct solve of a singular matrix (a rigid motion nothing holds, e.g. a
 /// sideways load on a frictionless body) does not always fail: the
 /// equilibrium of the answer tells. The message of such a run, if it is one.
-pub fn singular(p: &Problem, diag: &Diagnostics, name: &str, iterations: usize) -> Option<String> {
+pub fn singular(
+    p: &Problem,
+    diag: &Diagnostics,
+    name: Method,
+    iterations: usize,
+) -> Option<String> {
     (!p.lin.iterative && diag.equilibrium_rel > 1e-4).then(|| format!(
         "{name} stopped after {iterations} iterations: the answer violates equilibrium (relative residual {:.1e}): the body is not held: a rigid-body motion is free or the loads pull it off the obstacle; check the Dirichlet conditions, the loads and the obstacle",
         diag.equilibrium_rel

@@ -19,7 +19,7 @@
 //! The Schur unknowns (components `comps` of the contact nodes) are
 //! ordered last, as [`super::direct`]'s sequential ordering does.
 
-use super::Layout;
+use crate::comm::{allreduce_max, Layout};
 use crate::error::Error;
 use crate::fem::Adjacency;
 use crate::mesh::distribute::LocalMesh;
@@ -150,7 +150,7 @@ pub fn parallel_nd<C: Communicator>(
     let order = metis_nd(&mut xadj, &mut adjncy);
     // METIS failing on one rank is made collective.
     let failed = order.is_err();
-    let any = super::allreduce_max(world, if failed { 1.0 } else { 0.0 });
+    let any = allreduce_max(world, if failed { 1.0 } else { 0.0 });
     let order = match (order, any > 0.0) {
         (Ok(o), false) => o,
         (Err(e), _) => return Err(e),

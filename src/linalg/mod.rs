@@ -1,0 +1,144 @@
+//! The linear back-ends of UBR and its comparators: the KSP from the
+//! options database ([`linear_solver`]), MUMPS called directly
+//! ([`direct`]) with its orderings ([`ordering`]), and the solver that
+//! applies `K_r^{-1}` to UBR's right-hand sides ([`linear`]).
+
+pub mod direct;
+pub mod linear;
+pub mod ordering;
+mod schur;
+
+use crate::error::Error;
+use crate::mesh::distribute::LocalMesh;
+use crate::options::LinearBackend;
+use crate::petsc::{self, options, sys, Ksp, Matrix, NullSpace, Vector};
+
+/// Default largest number of contact unknowns for the condensed back-end,
+/// in 2D and 3D (MUMPS called directly: METIS ordering, the Schur unknowns
+/// last, u_n alone when frictionless along an axis). Measured on one rank,
+/// factorization + r choice + iterations, full against condensed: 2D
+/// hertz_37473 (329 unknowns) 2.2 -> 0.7 s; 3D block3d_2357 (262) 0.14 ->
+/// 0.13 s, block3d_10761 (762) 2.00 -> 1.48 s, block3d_17887 (1042) 7.1 ->
+/// 4.8 s, a generated 83,300-node block (2380) 58.1 -> 48.0 s; Coulomb
+/// (every component) block3d_10761 (2286) 5.6 -> 3.1 s, block3d_17887
+/// (3126) 10.6 -> 6.5 s. Above a few thousand unknowns the dense m^3/3 of
+/// the Schur block (on rank 0) grows past what 20-130 iterations save; in 2D
+/// the sparse solves are cheap and the break-even comes sooner.
+pub const CONDENSE_MAX: [usize; 2] = [2000, 4000];
+
+/// Puts PETSc's defaults of `backend` in the options database: a Cholesky
+/// factorization by MUMPS, unless the user picked something else.
+fn default_solver_options(backend: &LinearBackend, dim: usize) -> Result<(), Error> {
+    if let LinearBackend::Factorization { package, .. } = backend {
+        options::set_default("-pc_type", "cholesky")?;
+        options::set_default("-ksp_type", "preonly")?;
+        options::set_default("-pc_factor_mat_solver_type", "mumps")?;
+        // PETSc's MUMPS interface (-ubr_mumps_direct 0; the direct driver,
+        // src/linalg/direct.rs, chooses its ordering itself). Debian's
+        // MUMPS has no METIS/SCOTCH. Measured here: in 2D AMD factorizes
+        // fastest (0.20 s vs PORD 0.33 s at 75k dofs); in 3D PORD's nested
+        // dissection halves the factorization (2.0 s vs AMD 4.2 s at 54k dofs).
+        if package == "mumps" {
+            options::set_default("-mat_mumps_icntl_7", if dim == 3 { "4" } else { "0" })?;
+            // Workspace margin over the analysis' estimate: at MUMPS' 20%, 3 of
+            // 30 factorizations of a 3D hex + prism mesh on 3 ranks failed for
+            // want of workspace (PC_FACTOR_OUTMEMORY); none at 60%.
+            options::set_default("-mat_mumps_icntl_14", "60")?;
+        }
+    } else if let LinearBackend::Preconditioned { pc, ksp } = backend {
+        options::set_default("-ksp_type", "cg")?;
+        if ksp == "cg" {
+            // Converge on the true residual, not the preconditioned one.
+            options::set_default("-ksp_norm_type", "unpreconditioned")?;
+        }
+        // Measure the inner tolerance against the initial residual b - A u^{k-1}:
+        // the change that this UBR iteration brings, not the whole load (which
+        // a prescribed displacement can make huge).
+        options::set_default("-ksp_converged_use_initial_residual_norm", "1")?;
+        if pc == "gamg" {
+            // Measured on the 1M-node block (2 ranks, bench/scale3d, AIJ
+            // products, the same day, 2026-11-24; bench/README.md): PETSc
+            // 3.18's defaults (threshold -1, square_graph 1) set up in
+            // 29.1 s and take 181 CG iterations, total 158.7 s; dropping
+            // graph edges under 2% and aggressive coarsening on two levels,
+            // 20.6-23.1 s and 190 cheaper iterations, median total 149.6 s
+            // of six runs.
+            options::set_default("-pc_gamg_threshold", "0.02")?;
+            options::set_default("-pc_gamg_square_graph", "2")?;
+        }
+    }
+    Ok(())
+}
+
+/// The KSP for `matrix` from the options database (default: a MUMPS Cholesky
+/// factorization), with the rigid-body near-nullspace for algebraic multigrid
+/// and the previous iterate as initial guess for Krylov methods. Returns the
+/// solver, a description for the summary, and whether it is iterative.
+pub fn linear_solver(
+    matrix: &Matrix,
+    mesh: &LocalMesh,
+    backend: &LinearBackend,
+) -> Result<(Ksp, String, bool), Error> {
+    let comm = petsc::comm_world();
+    let d = mesh.dim;
+    let nown = mesh.owned_count * d;
+    default_solver_options(backend, d)?;
+    let ksp = Ksp::new(comm)?;
+    ksp.set_operators(matrix)?;
+    ksp.set_from_options()?;
+    let pc_type = ksp.pc_type()?;
+    let ksp_type = ksp.ksp_type()?;
+    let iterative = ksp_type != "preonly";
+    if pc_type == "gamg" || pc_type == "ml" || pc_type == "hypre" {
+        let coords = Vector::new(comm, nown, d)?;
+        coords.write(|c| c.copy_from_slice(&mesh.coords[..nown]))?;
+        let ns = NullSpace::rigid_body(&coords)?;
+        matrix.set_near_nullspace(&ns)?;
+    }
+    if iterative {
+        ksp.set_initial_guess_nonzero(true)?;
+    }
+    let description = match backend {
+        LinearBackend::Factorization { package, .. }
+            if pc_type == "cholesky" || pc_type == "lu" =>
+        {
+            format!("{ksp_type} + {pc_type} ({package})")
+        }
+        _ => format!("{ksp_type} + {pc_type}"),
+    };
+    Ok((ksp, description, iterative))
+}
+
+/// Whether the entry `(row, col)` of value `v` goes into a factorization:
+/// all but the exact zeros that couple two different nodes (`d` dofs a
+/// node), i.e. the couplings of the Dirichlet rows and columns, which
+/// `MatZeroRowsColumns` zeroes but keeps in the pattern; a direct solver
+/// would factorize them as fill (block3d_17887: 5.45e10 -> 4.78e10 flops
+/// with the Schur block). A node's own block is kept whole: a change of r
+/// and the contact terms add to those blocks only, so what is left out
+/// stays zero. UBR's direct back-end ([`direct`]) and the comparators'
+/// matrices ([`without_zero_couplings`]) use this one rule, so that
+/// comparisons are on equal matrices.
+pub(crate) fn factorized_entry(row: usize, col: usize, v: f64, d: usize) -> bool {
+    v != 0.0 || col / d == row / d
+}
+
+/// A copy of `a` with the entries [`factorized_entry`] keeps: the matrix
+/// the comparators (SNES VI, SSN-C) factorize (block3d_17887: SNES VI
+/// 13.2 -> 11.7 s).
+pub(crate) fn without_zero_couplings(a: &Matrix, d: usize) -> Result<Matrix, Error> {
+    let mut rowptr: Vec<sys::PetscInt> = vec![0];
+    let (mut cols, mut vals) = (Vec::new(), Vec::new());
+    a.for_each_owned_row(|row, cs, vs| {
+        for (&c, &v) in cs.iter().zip(vs) {
+            if factorized_entry(row, c as usize, v, d) {
+                cols.push(c);
+                vals.push(v);
+            }
+        }
+        rowptr.push(cols.len() as sys::PetscInt);
+    })?;
+    let m = Matrix::new_aij_csr(petsc::comm_world(), rowptr.len() - 1, d, rowptr, cols, vals)?;
+    m.set_spd()?;
+    Ok(m)
+}

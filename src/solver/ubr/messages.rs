@@ -1,0 +1,96 @@
+//! Why a UBR run stopped without converging, in words.
+
+use super::{UbrControl, UbrOutcome};
+use crate::solver::stopping::{Accuracy, Progress, StopRule};
+
+/// Words on an r far from the trial r0.
+pub(super) fn r_far_words(r: f64, r0: f64) -> String {
+    format!(
+        "r = {r:.3e} (-ubr_r) is {:.1e} times the trial r0 = {r0:.3e} from which -ubr_r auto chooses (within a factor of about 30 of it): far outside the range where UBR converges in a reasonable number of iterations; use -ubr_r auto, or an r near r0",
+        r / r0
+    )
+}
+
+/// The message of a run stopped because it made no progress: what it
+/// stalled at, and the likely cause.
+pub(super) fn stalled(
+    name: &str,
+    ctl: &UbrControl,
+    out: &UbrOutcome,
+    r: f64,
+    acc: &Accuracy,
+    progress: &Progress,
+    friction: bool,
+) -> String {
+    let its = out.iterations;
+    let target = if ctl.stop == StopRule::Paper {
+        format!(
+            "relative change (4.16) {:.3e} (target -ubr_rtol {:.1e})",
+            out.criterion, ctl.rtol
+        )
+    } else {
+        format!(
+            "error estimate of lambda {:.3e} (target -ubr_lambda_rtol {:.1e} / 4)",
+            acc.estimate, ctl.lambda_rtol
+        )
+    };
+    let cause = if friction && out.contact > 0 && out.stick == 0 {
+        format!(
+            "every one of the {} contact nodes slips: the bound s cannot hold the tangential load, and the body slides (with Coulomb friction: friction cannot hold the loads with the pressures this body develops; lower the tangential load or raise -friction_coefficient)",
+            out.contact
+        )
+    } else if let Some(r0) = ctl.r_far {
+        r_far_words(r, r0)
+    } else if out.contact == 0 {
+        "no node touches the obstacle at the last iterations although the loads push the body along a motion that only the contact holds: the iterates do not reach a contact state that holds them (no contact reached); check the obstacle's position and the loads, or try -ubr_anderson 0".to_string()
+    } else if progress.changes >= progress.since / 10 {
+        format!(
+            "contact statuses changed {} times in those iterations: the contact set cycles between states, as when the contact zone is a few nodes or a point smaller than a cell; refine the mesh where the body touches, or loosen -ubr_lambda_rtol",
+            progress.changes
+        )
+    } else {
+        format!(
+            "{} nodes touch the obstacle and the contact set has settled, yet the residual stays flat at r = {r:.3e}; try -ubr_anderson 0 or another r",
+            out.contact
+        )
+    };
+    format!(
+        "{name} stalled: its best residual has not fallen by 3% in the last {} iterations (best {:.3e}), stopped after {its} of -ubr_max_it {}; {target}; {cause}",
+        progress.since, progress.best, ctl.max_it
+    )
+}
+
+/// The message of a run stopped by the iteration cap: the failing test,
+/// its value and target, and what to try.
+pub(super) fn failure(
+    name: &str,
+    ctl: &UbrControl,
+    out: &UbrOutcome,
+    r: f64,
+    acc: &Accuracy,
+) -> String {
+    let its = out.iterations;
+    if its == 0 {
+        return format!(
+            "{name} ran no iteration (-ubr_max_it {}): the answer is its start (no contact stress); give -ubr_max_it at least 1 (default 10000)",
+            ctl.max_it
+        );
+    }
+    if ctl.stop == StopRule::Paper {
+        return format!(
+            "{name} stopped after {its} iterations (-ubr_max_it): relative change (4.16) {:.3e} (target -ubr_rtol {:.1e}), constraint residual {:.3e} (target -ubr_residual_tol {:.1e}); try more iterations, -ubr_anderson 10, or the default stopping test (-ubr_stop accuracy)",
+            out.criterion, ctl.rtol, out.residual, ctl.residual_tol
+        );
+    }
+    if acc.statuses_unsettled() {
+        return format!(
+            "{name} stopped after {its} iterations (-ubr_max_it): the error estimate {:.3e} meets its target ({:.1e}) but contact statuses still change every iteration (a node switching between open and contact, or stick and slip); try -ubr_max_it larger or a finer mesh near the edge of the contact zone",
+            out.error_estimate,
+            0.25 * ctl.lambda_rtol
+        );
+    }
+    format!(
+        "{name} stopped after {its} iterations (-ubr_max_it): the error estimate of lambda is {:.3e} (residual {:.3e} x amplification {:.3e}), the target -ubr_lambda_rtol {:.1e} / 4; r = {r:.6e}; try -ubr_max_it larger, a looser -ubr_lambda_rtol, or another r (-ubr_r auto chooses it)",
+        out.error_estimate, out.p, out.k, ctl.lambda_rtol
+    )
+}

@@ -1,0 +1,165 @@
+//! Algorithms UBR-C (Koko 2010, section 4.3) and UBR-TF (section 5): Uzawa
+//! block relaxation for frictionless contact and for Tresca friction.
+//!
+//! Initialization: `phi^{-1} = 0`, `lambda^0 = 0`. Iteration k >= 0:
+//! 1. solve (4.5) / (5.3): `(K + r B^T W B) u^k = f + B^T W (r phi^{k-1} - lambda^k)`
+//!    with the matrix factorized once (B = B_n, or (B_n, B_t) with friction);
+//! 2. project: (4.15) `phi_c^k = u_n^k + [lambda_c^k - (lambda_c^k + r(u_n^k - g))^+] / r`,
+//!    and with friction (5.5) `phi_f^k = (|q| - s)/(r|q|) q` if `|q| > s`, else 0,
+//!    where `q = lambda_f^k + r u_t^k`;
+//! 3. update (4.4): `lambda^{k+1} = lambda^k + rho (B u^k - phi^k)`;
+//!
+//! until the stopping test holds ([`super::stopping`]: the paper's (4.16)/(5.6)
+//! or, by default, a bound on the error of lambda).
+//!
+//! **The map on the contact surface.** Steps 2-3 read `lambda^k` and `u^k`
+//! only through `z = lambda^k + r B u^k`: with rho = r, `(phi^k, lambda^{k+1})`
+//! is the pointwise projection of z, and the next z is
+//! `T(z) = lambda + r B K_r^{-1} (f + B^T W (r phi - lambda))` with
+//! `(phi, lambda)` the projection of z. Plain UBR is `z <- T(z)`, exactly
+//! the paper's iterates. With `-ubr_anderson M` (M > 0, the default 10) the
+//! iteration is Anderson-accelerated on z ([`super::anderson`]); with M = 0
+//! it is the paper's, arithmetic unchanged, with any step rho.
+//!
+//! The reported contact stresses are `-sigma(u^k)` on Gamma_c from (4.7):
+//! `lambda^k + r (B u^k - phi^{k-1})`, the stresses in equilibrium with the
+//! returned displacement (the contact force balances the load to round-off
+//! at any iteration); they differ from `lambda^{k+1}` by the map's residual,
+//! which the accuracy test bounds.
+//!
+//! Norms: lumped mass on Omega, nodal weights w_i on Gamma_c. Every stopping
+//! decision is taken on globally reduced sums, so all ranks agree.
+
+mod measures;
+mod messages;
+mod run;
+
+use super::stopping::StopRule;
+use super::surface::{Surface, UbrState};
+use super::Problem;
+use crate::error::Error;
+use mpi::traits::*;
+
+/// A converged contact stress is compressive: tension above this fraction of
+/// the largest stress means the augmentation springs r carry load, i.e. a
+/// rigid motion of the body is free (it drifts away or slides off).
+pub const TENSION_TOL: f64 = 1e-3;
+
+/// Evaluations with nothing in contact, every candidate moving away from
+/// the obstacle and the stresses not decaying, after which the body is
+/// declared pulled off the obstacle (see [`ubr`]).
+const DRIFT_ITS: usize = 100;
+
+/// The tangential part of P is relative to `max |lambda_t|`, but at least
+/// this fraction of `max |lambda_n|` (a friction force that is nil to
+/// round-off has no relative accuracy).
+const TANGENTIAL_FLOOR: f64 = 1e-6;
+
+/// The inner tolerance factor is tightened tenfold at each rejected
+/// Anderson step, down to this (iterative solvers).
+const INNER_FACTOR_MIN: f64 = 1e-3;
+
+/// Tolerances and caps of one UBR run.
+#[derive(Clone, Copy, Debug)]
+pub struct UbrControl {
+    /// The multiplier step rho of (4.4) (None: rho = r).
+    pub rho: Option<f64>,
+    pub stop: StopRule,
+    /// The paper's eps of (4.16)/(5.6), and the constraint-residual tolerance.
+    pub rtol: f64,
+    pub residual_tol: f64,
+    /// Tolerance on the dual residual `r ||phi^k - phi^{k-1}|| / ||lambda^{k+1}||` (paper mode).
+    pub dual_rtol: f64,
+    /// Largest tensile contact stress accepted at convergence, relative to the
+    /// largest stress ([`TENSION_TOL`]; CF-FP loosens it with eps_f^m).
+    pub tension_tol: f64,
+    /// The accuracy test's tolerance on lambda.
+    pub lambda_rtol: f64,
+    pub max_it: usize,
+    pub monitor: bool,
+    /// Inexact Uzawa: inner KSP rtol relative to the initial residual b - A u^{k-1}.
+    pub inner_rtol_factor: f64,
+    /// Anderson memory M (0: the paper's plain iteration).
+    pub anderson: usize,
+    /// A candidate displaced by more than this has drifted away: the body
+    /// moves without bound (ten times the size of the bodies that contact
+    /// alone holds, and their largest gap; infinite where none is).
+    pub drift_limit: f64,
+    /// The trial r0 of `-ubr_r auto` where the user's r is more than
+    /// [`R_FAR`] times away from it (a likely cause of a failure).
+    pub r_far: Option<f64>,
+}
+
+/// A user's r this many times above or below the trial r0 is far outside
+/// the range `-ubr_r auto` chooses from (its estimates lie within a factor
+/// of about 30 of r0 on every scene measured).
+pub const R_FAR: f64 = 100.0;
+
+/// What one UBR run did.
+#[derive(Clone, Debug, Default)]
+pub struct UbrOutcome {
+    pub iterations: usize,
+    pub converged: bool,
+    /// The paper's change (4.16)/(5.6) at the last iteration, and the
+    /// constraint residual.
+    pub criterion: f64,
+    pub residual: f64,
+    /// Dual residual `r ||phi^k - phi^{k-1}|| / ||lambda^{k+1}||`.
+    pub dual: f64,
+    /// Largest tensile contact stress `max (-lambda_n)^+` relative to the
+    /// largest `|lambda_n|` (stresses of u^k): near 1 when the augmentation
+    /// springs hold a body that nothing else holds.
+    pub tension: f64,
+    /// The accuracy test: residual P, amplification K, estimate P K.
+    pub p: f64,
+    pub k: f64,
+    pub error_estimate: f64,
+    /// Global counts from the last projection.
+    pub contact: usize,
+    pub stick: usize,
+    pub slip: usize,
+    /// Anderson: evaluations at an extrapolated point, and rejections.
+    pub anderson_steps: usize,
+    pub anderson_rejected: usize,
+    /// Why the run stopped without converging (None: converged).
+    pub failure: Option<String>,
+}
+
+/// Runs UBR-C (`friction_bound` = None, the problem assembled without the
+/// tangential term) or UBR-TF (`Some(s)`, one bound per candidate) from
+/// `state` (the paper's initialization, or a previous run's iterate).
+pub fn ubr<C: Communicator>(
+    world: &C,
+    problem: &mut Problem,
+    state: &mut UbrState,
+    friction_bound: Option<&[f64]>,
+    ctl: &UbrControl,
+    events: &crate::petsc::Events,
+) -> Result<UbrOutcome, Error> {
+    let d = problem.dim;
+    let Problem {
+        contact: cs,
+        lin,
+        lumped_mass,
+        dirichlet,
+        tangential,
+        ..
+    } = problem;
+    let surface = Surface {
+        cs,
+        dim: d,
+        tangential: *tangential,
+        dirichlet: &dirichlet.contact,
+    };
+    run::Run::new(
+        world,
+        lin,
+        surface,
+        lumped_mass,
+        state,
+        friction_bound,
+        ctl,
+        events,
+    )?
+    .run()
+}
