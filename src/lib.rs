@@ -11,28 +11,29 @@
 //!    errors, the PETSc and MUMPS bindings, dense algebra, the MPI
 //!    collectives, the progress line;
 //! 2. [`options`]: the settings and the typed values options parse to;
-//! 3. [`mesh`]: meshes, their generators and readers, the distribution;
-//! 4. [`fem`]: elements, assembly, loads, stresses;
-//! 5. [`contact`]: candidates, the obstacle, the operators B and B^T W, the
+//! 3. [`element`]: shape functions, quadrature, Jacobians, Hooke's law
+//!    (pure functions of coordinates, no mesh);
+//! 4. [`mesh`]: meshes, their generators and readers, the distribution;
+//! 5. [`fem`]: assembly, loads, stresses;
+//! 6. [`contact`]: candidates, the obstacle, the operators B and B^T W, the
 //!    pointwise projections;
-//! 6. [`linalg`]: the linear back-ends (PETSc's KSP, MUMPS called
+//! 7. [`linalg`]: the linear back-ends (PETSc's KSP, MUMPS called
 //!    directly, orderings, the Schur complement);
-//! 7. [`wellposed`]: the analysis of the scene (what holds each body);
-//! 8. [`solver`]: the discrete problem and the algorithms (UBR-C, UBR-TF,
+//! 8. [`wellposed`]: the analysis of the scene (what holds each body);
+//! 9. [`solver`]: the discrete problem and the algorithms (UBR-C, UBR-TF,
 //!    CF-FP, the choice of r, the comparators SSN-C and SNES VI);
-//! 9. [`checks`]: the checks of a solution and the set-up warnings;
-//! 10. [`report`]: the summary, the JSON report, the output files;
-//! 11. [`app`], then `main.rs`: the run, step by step.
+//! 10. [`checks`]: the checks of a solution and the set-up warnings;
+//! 11. [`report`]: the summary, the JSON report, the output files;
+//! 12. [`app`], then `main.rs`: the run, step by step.
 //!
-//! Known exceptions, to be removed by the work that owns those files (and
-//! listed in `tests/house.rs`): `mesh/` reads the element Jacobians of
-//! `fem/`; PETSc's start-up reads the options files of `options/`.
+//! There are no exceptions.
 
 pub mod app;
 pub mod checks;
 pub mod comm;
 pub mod contact;
 pub mod dense;
+pub mod element;
 pub mod error;
 pub mod fem;
 pub mod linalg;

@@ -21,6 +21,7 @@ use std::path::{Path, PathBuf};
 const FLOORS: &[&[&str]] = &[
     &["error", "petsc", "mumps", "dense", "comm", "progress"],
     &["options"],
+    &["element"],
     &["mesh"],
     &["fem"],
     &["contact"],
@@ -33,30 +34,15 @@ const FLOORS: &[&[&str]] = &[
     &["lib", "main"],
 ];
 
-/// Upward imports that other work still has to remove: (file, imported
-/// module). `mesh/` reads the element Jacobians of `fem/` (a mesh quality
-/// check); PETSc's start-up reads the options files of `options/`.
-const KNOWN_UPWARD: &[(&str, &str)] =
-    &[("src/mesh/mod.rs", "fem"), ("src/petsc/mod.rs", "options")];
+/// Upward imports allowed: none (the list stays, so that an exception
+/// can only be added in the open, with its reason).
+const KNOWN_UPWARD: &[(&str, &str)] = &[];
 
-/// Files allowed over [`MAX_FILE_LINES`]: the Gmsh reader (by the issue),
-/// and files of other work still to be split.
-const KNOWN_LONG_FILES: &[&str] = &[
-    "src/mesh/gmsh.rs",
-    "src/report/plot.rs",
-    "src/report/vtk.rs",
-    "src/petsc/objects.rs",
-];
+/// Files allowed over [`MAX_FILE_LINES`]: the Gmsh reader (by the issue).
+const KNOWN_LONG_FILES: &[&str] = &["src/mesh/gmsh.rs"];
 
-/// Functions allowed over [`MAX_FN_LINES`]: (file, function name). The
-/// first three are in files of other work (the mesh generators, the
-/// report); the rest are still to be split into steps (issue 25 item 2).
-const KNOWN_LONG_FNS: &[(&str, &str)] = &[
-    ("src/mesh/hertz2d.rs", "generate_quad"),
-    ("src/report/files.rs", "plot_contact"),
-    ("src/report/plot.rs", "draw"),
-    ("src/linalg/ordering.rs", "parallel_nd"),
-];
+/// Functions allowed over [`MAX_FN_LINES`]: none.
+const KNOWN_LONG_FNS: &[(&str, &str)] = &[];
 
 const MAX_FILE_LINES: usize = 900;
 const MAX_FN_LINES: usize = 120;
@@ -320,7 +306,7 @@ fn no_function_over_120_lines() {
 }
 
 #[test]
-#[ignore = "until h-safety merges"]
+
 fn every_unsafe_has_a_safety_comment() {
     let (mut unsafe_lines, mut safety) = (0, 0);
     for path in src_files() {
@@ -329,10 +315,9 @@ fn every_unsafe_has_a_safety_comment() {
             if line.contains("SAFETY:") {
                 safety += 1;
             }
-            let c = code(line);
-            if c.split(|ch: char| !(ch.is_alphanumeric() || ch == '_'))
-                .any(|w| w == "unsafe")
-            {
+            // As the issue's acceptance counts them (`grep -c unsafe`):
+            // every line with the word, lint names and comments included.
+            if line.contains("unsafe") {
                 unsafe_lines += 1;
             }
         }

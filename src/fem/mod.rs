@@ -7,7 +7,8 @@
 //! the renumbered (rank-contiguous) global node numbers of `LocalMesh`.
 
 pub mod deformation;
-pub mod element;
+pub use crate::element;
+pub use crate::element::{hooke_2d, hooke_3d};
 pub mod loads;
 pub mod stress;
 
@@ -16,31 +17,6 @@ use crate::mesh::distribute::LocalMesh;
 use crate::options::{DirichletBc, Settings, TractionBc};
 use crate::petsc::{sys, Matrix};
 use nalgebra::{SMatrix, SVector};
-
-/// Isotropic Hooke law in Voigt notation (engineering shear strains).
-pub fn hooke_2d(young: f64, nu: f64, plane_stress: bool) -> SMatrix<f64, 3, 3> {
-    let (c11, c12, c33) = if plane_stress {
-        let c = young / (1.0 - nu * nu);
-        (c, c * nu, c * (1.0 - nu) / 2.0)
-    } else {
-        let c = young / ((1.0 + nu) * (1.0 - 2.0 * nu));
-        (c * (1.0 - nu), c * nu, c * (1.0 - 2.0 * nu) / 2.0)
-    };
-    SMatrix::<f64, 3, 3>::new(c11, c12, 0.0, c12, c11, 0.0, 0.0, 0.0, c33)
-}
-
-pub fn hooke_3d(young: f64, nu: f64) -> SMatrix<f64, 6, 6> {
-    let c = young / ((1.0 + nu) * (1.0 - 2.0 * nu));
-    let (a, b, g) = (c * (1.0 - nu), c * nu, young / (2.0 * (1.0 + nu)));
-    let mut d = SMatrix::<f64, 6, 6>::zeros();
-    for i in 0..3 {
-        for j in 0..3 {
-            d[(i, j)] = if i == j { a } else { b };
-        }
-        d[(i + 3, i + 3)] = g;
-    }
-    d
-}
 
 /// Gradients of the P1 basis functions of a triangle and its area (> 0 unless degenerate).
 pub fn grad_p1_2d(x: &[[f64; 2]; 3]) -> ([[f64; 2]; 3], f64) {

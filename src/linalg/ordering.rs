@@ -104,7 +104,6 @@ pub fn parallel_nd<C: Communicator>(
     let p = world.size() as usize;
     let me = world.rank() as usize;
     let nown = mesh.owned_count;
-    let d = mesh.dim;
     // The first global node of every rank (owned nodes are contiguous).
     let starts: Vec<u64> = Layout::new(world, 1).all_gather(world, &[mesh.owned_start as u64]);
     let rank_of = |g: usize| -> usize { starts.partition_point(|&s| s as usize <= g) - 1 };
@@ -127,27 +126,7 @@ pub fn parallel_nd<C: Communicator>(
             }
         }
     }
-    // The interior's subgraph, ordered by METIS here.
-    let mut local = vec![u32::MAX; nown];
-    let mut interior = Vec::new();
-    for a in 0..nown {
-        if sep[a].is_none() {
-            local[a] = interior.len() as u32;
-            interior.push(a);
-        }
-    }
-    let mut xadj = vec![0i32; interior.len() + 1];
-    let mut adjncy = Vec::new();
-    for (i, &a) in interior.iter().enumerate() {
-        for &b in &nbr[ptr[a]..ptr[a + 1]] {
-            let b = b as usize;
-            if b != a && b < nown && local[b] != u32::MAX {
-                adjncy.push(local[b] as i32);
-            }
-        }
-        xadj[i + 1] = adjncy.len() as i32;
-    }
-    let order = metis_nd(&mut xadj, &mut adjncy);
+    let (interior, order) = order_interior(&sep, ptr, nbr);
     // METIS failing on one rank is made collective.
     let failed = order.is_err();
     let any = allreduce_max(world, if failed { 1.0 } else { 0.0 });
@@ -199,7 +178,53 @@ pub fn parallel_nd<C: Communicator>(
             offset[k] += 1;
         }
     }
-    // (global node, position) of the owned nodes, gathered on the host.
+    gather_order(world, mesh, &pos, schur_nodes, comps)
+}
+
+/// METIS_NodeND of the interior nodes (those in no separator) of this
+/// rank's part: the interior (local node numbers) and its order (positions
+/// in the interior list), or METIS' error (which the caller makes
+/// collective).
+fn order_interior(
+    sep: &[Option<(usize, usize, usize)>],
+    ptr: &[usize],
+    nbr: &[u32],
+) -> (Vec<usize>, Result<Vec<i32>, Error>) {
+    let nown = sep.len();
+    let mut local = vec![u32::MAX; nown];
+    let mut interior = Vec::new();
+    for a in 0..nown {
+        if sep[a].is_none() {
+            local[a] = interior.len() as u32;
+            interior.push(a);
+        }
+    }
+    let mut xadj = vec![0i32; interior.len() + 1];
+    let mut adjncy = Vec::new();
+    for (i, &a) in interior.iter().enumerate() {
+        for &b in &nbr[ptr[a]..ptr[a + 1]] {
+            let b = b as usize;
+            if b != a && b < nown && local[b] != u32::MAX {
+                adjncy.push(local[b] as i32);
+            }
+        }
+        xadj[i + 1] = adjncy.len() as i32;
+    }
+    let order = metis_nd(&mut xadj, &mut adjncy);
+    (interior, order)
+}
+
+/// The position of every owned node gathered on the host, which turns
+/// the node order into MUMPS' PERM_IN (empty on the other ranks).
+fn gather_order<C: Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    pos: &[usize],
+    schur_nodes: &[usize],
+    comps: &[usize],
+) -> Result<Vec<i32>, Error> {
+    let (nown, d) = (mesh.owned_count, mesh.dim);
+    // (global node, position) of the owned nodes.
     let mut pairs = Vec::with_capacity(2 * nown);
     for (a, &at) in pos.iter().enumerate() {
         pairs.push(mesh.node_global[a] as f64);

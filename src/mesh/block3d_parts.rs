@@ -70,127 +70,141 @@ fn bisect(b: NodeBox, n: [usize; 3], lo: usize, hi: usize, out: &mut Vec<NodeBox
     bisect(a, n, lo, mid, out) && bisect(c, n, mid, hi, out)
 }
 
-/// Part `p` of `nparts` of the block at element size `h` (hexahedra with
-/// `q1`, else the Kuhn tetrahedra). `Ok(None)` when a cut would leave a
-/// rank without nodes (a tiny mesh on many ranks).
-pub fn own_part(h: f64, q1: bool, nparts: usize, p: usize) -> Result<Option<LocalMesh>, MeshError> {
-    let n = dims(h)?;
-    let nodes = [n[0] + 1, n[1] + 1, n[2] + 1];
-    let whole = NodeBox {
-        lo: [0; 3],
-        hi: nodes,
-    };
-    let mut boxes = Vec::with_capacity(nparts);
-    if !bisect(whole, n, 0, nparts, &mut boxes) {
-        return Ok(None);
-    }
-    let mut start = vec![0usize; nparts + 1];
-    for (q, b) in boxes.iter().enumerate() {
-        start[q + 1] = start[q] + b.count();
-    }
-    let mine = boxes[p];
-    let global = |ijk: [usize; 3]| -> usize {
-        let q = if mine.contains(ijk) {
-            p
-        } else {
-            boxes
+/// Corner `c = a + 2 b + 4 c'` of the grid box whose lowest corner is `ijk`.
+fn corner(ijk: [usize; 3], c: usize) -> [usize; 3] {
+    [ijk[0] + (c & 1), ijk[1] + ((c >> 1) & 1), ijk[2] + (c >> 2)]
+}
+
+/// One rank's box among all of them, with its ghost nodes.
+struct Part {
+    /// Intervals along each axis.
+    n: [usize; 3],
+    /// The box of nodes this rank owns.
+    mine: NodeBox,
+    /// First global number of the box.
+    start: usize,
+    /// The grid boxes (cells) touching an owned node: `cell_lo <= c < cell_hi`.
+    cell_lo: [usize; 3],
+    cell_hi: [usize; 3],
+    /// The ghost nodes: global number and grid index, by global number.
+    ghosts: Vec<(usize, [usize; 3])>,
+    local_of_ghost: HashMap<[usize; 3], usize>,
+}
+
+impl Part {
+    fn new(n: [usize; 3], boxes: &[NodeBox], start: &[usize], p: usize) -> Part {
+        let mine = boxes[p];
+        let global = |ijk: [usize; 3]| -> usize {
+            let q = boxes
                 .iter()
                 .position(|b| b.contains(ijk))
-                .expect("boxes cover the grid")
+                .expect("boxes cover the grid");
+            start[q] + boxes[q].offset(ijk)
         };
-        start[q] + boxes[q].offset(ijk)
-    };
-    // Boxes (cells) touching an owned node, and the nodes they use.
-    let cell_lo: [usize; 3] = std::array::from_fn(|a| mine.lo[a].saturating_sub(1));
-    let cell_hi: [usize; 3] = std::array::from_fn(|a| mine.hi[a].min(n[a]));
-    let window = NodeBox {
-        lo: cell_lo,
-        hi: std::array::from_fn(|a| cell_hi[a] + 1),
-    };
-    let owned_count = mine.count();
-    let mut ghosts: Vec<(usize, [usize; 3])> = Vec::new();
-    for k in window.lo[2]..window.hi[2] {
-        for j in window.lo[1]..window.hi[1] {
-            for i in window.lo[0]..window.hi[0] {
-                if !mine.contains([i, j, k]) {
-                    ghosts.push((global([i, j, k]), [i, j, k]));
+        let cell_lo: [usize; 3] = std::array::from_fn(|a| mine.lo[a].saturating_sub(1));
+        let cell_hi: [usize; 3] = std::array::from_fn(|a| mine.hi[a].min(n[a]));
+        let mut ghosts: Vec<(usize, [usize; 3])> = Vec::new();
+        for k in cell_lo[2]..=cell_hi[2] {
+            for j in cell_lo[1]..=cell_hi[1] {
+                for i in cell_lo[0]..=cell_hi[0] {
+                    if !mine.contains([i, j, k]) {
+                        ghosts.push((global([i, j, k]), [i, j, k]));
+                    }
                 }
             }
         }
-    }
-    ghosts.sort_unstable();
-    let mut local_of: HashMap<[usize; 3], usize> = HashMap::with_capacity(ghosts.len());
-    for (g, &(_, ijk)) in ghosts.iter().enumerate() {
-        local_of.insert(ijk, owned_count + g);
-    }
-    let local = |ijk: [usize; 3]| -> usize {
-        if mine.contains(ijk) {
-            mine.offset(ijk)
-        } else {
-            local_of[&ijk]
+        ghosts.sort_unstable();
+        let owned = mine.count();
+        let local_of_ghost = ghosts
+            .iter()
+            .enumerate()
+            .map(|(g, &(_, ijk))| (ijk, owned + g))
+            .collect();
+        Part {
+            n,
+            mine,
+            start: start[p],
+            cell_lo,
+            cell_hi,
+            ghosts,
+            local_of_ghost,
         }
-    };
-    let original = |ijk: [usize; 3]| ijk[0] + nodes[0] * (ijk[1] + nodes[1] * ijk[2]);
+    }
 
-    let mut ijks: Vec<[usize; 3]> = Vec::with_capacity(owned_count + ghosts.len());
-    for k in mine.lo[2]..mine.hi[2] {
-        for j in mine.lo[1]..mine.hi[1] {
-            for i in mine.lo[0]..mine.hi[0] {
-                ijks.push([i, j, k]);
+    fn local(&self, ijk: [usize; 3]) -> usize {
+        if self.mine.contains(ijk) {
+            self.mine.offset(ijk)
+        } else {
+            self.local_of_ghost[&ijk]
+        }
+    }
+
+    /// Global numbers, tags and coordinates of the local nodes: the box
+    /// (x fastest), then the ghosts.
+    fn nodes(&self) -> (Vec<usize>, Vec<u64>, Vec<f64>) {
+        let (n, mine) = (self.n, self.mine);
+        let mut ijks: Vec<[usize; 3]> = Vec::with_capacity(mine.count() + self.ghosts.len());
+        for k in mine.lo[2]..mine.hi[2] {
+            for j in mine.lo[1]..mine.hi[1] {
+                for i in mine.lo[0]..mine.hi[0] {
+                    ijks.push([i, j, k]);
+                }
             }
         }
-    }
-    ijks.extend(ghosts.iter().map(|&(_, ijk)| ijk));
-    let mut node_global = Vec::with_capacity(ijks.len());
-    let mut node_tag = Vec::with_capacity(ijks.len());
-    let mut coords = Vec::with_capacity(3 * ijks.len());
-    for (v, &ijk) in ijks.iter().enumerate() {
-        node_global.push(if v < owned_count {
-            start[p] + v
-        } else {
-            ghosts[v - owned_count].0
-        });
-        node_tag.push(original(ijk) as u64 + 1);
-        coords.extend((0..3).map(|a| coordinate(a, ijk[a], n[a])));
+        let owned = ijks.len();
+        ijks.extend(self.ghosts.iter().map(|&(_, ijk)| ijk));
+        let node_global = (self.start..self.start + owned)
+            .chain(self.ghosts.iter().map(|&(g, _)| g))
+            .collect();
+        let original = |ijk: [usize; 3]| ijk[0] + (n[0] + 1) * (ijk[1] + (n[1] + 1) * ijk[2]);
+        let node_tag = ijks.iter().map(|&ijk| original(ijk) as u64 + 1).collect();
+        let coords = ijks
+            .iter()
+            .flat_map(|&ijk| (0..3).map(move |a| coordinate(a, ijk[a], n[a])))
+            .collect();
+        (node_global, node_tag, coords)
     }
 
-    // Cells touching an owned node, in the generators' order (boxes x
-    // fastest; six tetrahedra or one hexahedron each).
-    let corner =
-        |ijk: [usize; 3], c: usize| [ijk[0] + (c & 1), ijk[1] + ((c >> 1) & 1), ijk[2] + (c >> 2)];
-    let mut conn = Vec::new();
-    for k in cell_lo[2]..cell_hi[2] {
-        for j in cell_lo[1]..cell_hi[1] {
-            for i in cell_lo[0]..cell_hi[0] {
-                if q1 {
-                    conn.extend(HEX.iter().map(|&c| local(corner([i, j, k], c))));
-                } else {
-                    // A box at the edge of the part has tetrahedra
-                    // without an owned node: those belong to others alone.
+    /// Cells touching an owned node, in the generators' order (boxes x
+    /// fastest; six tetrahedra or one hexahedron each).
+    fn cells(&self, q1: bool) -> Cells {
+        let (lo, hi) = (self.cell_lo, self.cell_hi);
+        let mut conn = Vec::new();
+        for k in lo[2]..hi[2] {
+            for j in lo[1]..hi[1] {
+                for i in lo[0]..hi[0] {
+                    if q1 {
+                        conn.extend(HEX.iter().map(|&c| self.local(corner([i, j, k], c))));
+                        continue;
+                    }
+                    // A box at the edge of the part has tetrahedra without
+                    // an owned node: those belong to others alone.
                     for t in &KUHN {
                         let tet = t.map(|c| corner([i, j, k], c));
-                        if tet.iter().any(|&v| mine.contains(v)) {
-                            conn.extend(tet.iter().map(|&v| local(v)));
+                        if tet.iter().any(|&v| self.mine.contains(v)) {
+                            conn.extend(tet.iter().map(|&v| self.local(v)));
                         }
                     }
                 }
             }
         }
+        Cells::uniform(conn, if q1 { 8 } else { 4 })
     }
-    let cells = Cells::uniform(conn, if q1 { 8 } else { 4 });
 
-    // Boundary elements touching an owned node, in the generators' order:
-    // per face, its squares with the second in-plane axis outer.
-    let faces = |list: &[(usize, bool)]| -> Cells {
+    /// The boundary elements touching an owned node on the faces `list`
+    /// (axis, upper), in the generators' order: per face, its squares with
+    /// the second in-plane axis outer, split as the generators split them.
+    fn faces(&self, q1: bool, list: &[(usize, bool)]) -> Cells {
+        let (lo, hi) = (self.cell_lo, self.cell_hi);
         let mut conn: Vec<usize> = Vec::new();
         for &(axis, upper) in list {
             let (pa, qa) = ((axis + 1) % 3, (axis + 2) % 3);
-            let plane = if upper { n[axis] } else { 0 };
-            if plane < window.lo[axis] || plane >= window.hi[axis] {
+            let plane = if upper { self.n[axis] } else { 0 };
+            if plane < lo[axis] || plane > hi[axis] {
                 continue;
             }
-            for b in cell_lo[qa]..cell_hi[qa] {
-                for a in cell_lo[pa]..cell_hi[pa] {
+            for b in lo[qa]..hi[qa] {
+                for a in lo[pa]..hi[pa] {
                     let at = |da: usize, db: usize| {
                         let mut ijk = [0; 3];
                         ijk[axis] = plane;
@@ -206,27 +220,46 @@ pub fn own_part(h: f64, q1: bool, nparts: usize, p: usize) -> Result<Option<Loca
                         (true, false) => vec![vec![c00, c01, c11, c10]],
                     };
                     for e in elements {
-                        if e.iter().any(|&v| mine.contains(v)) {
-                            conn.extend(e.iter().map(|&v| local(v)));
+                        if e.iter().any(|&v| self.mine.contains(v)) {
+                            conn.extend(e.iter().map(|&v| self.local(v)));
                         }
                     }
                 }
             }
         }
         Cells::uniform(conn, if q1 { 4 } else { 3 })
+    }
+}
+
+/// Part `p` of `nparts` of the block at element size `h` (hexahedra with
+/// `q1`, else the Kuhn tetrahedra). `Ok(None)` when a cut would leave a
+/// rank without nodes (a tiny mesh on many ranks).
+pub fn own_part(h: f64, q1: bool, nparts: usize, p: usize) -> Result<Option<LocalMesh>, MeshError> {
+    let n = dims(h)?;
+    let whole = NodeBox {
+        lo: [0; 3],
+        hi: [n[0] + 1, n[1] + 1, n[2] + 1],
     };
-    let group = |name: &str, conn: Cells| Group {
+    let mut boxes = Vec::with_capacity(nparts);
+    if !bisect(whole, n, 0, nparts, &mut boxes) {
+        return Ok(None);
+    }
+    let mut start = vec![0usize; nparts + 1];
+    for (q, b) in boxes.iter().enumerate() {
+        start[q + 1] = start[q] + b.count();
+    }
+    let part = Part::new(n, &boxes, &start, p);
+    let (node_global, node_tag, coords) = part.nodes();
+    let cells = part.cells(q1);
+    let group = |name: &str, list: &[(usize, bool)]| Group {
         name: name.to_string(),
         dim: 2,
-        conn,
+        conn: part.faces(q1, list),
     };
     let groups = vec![
-        group("top", faces(&[(2, true)])),
-        group("bottom", faces(&[(2, false)])),
-        group(
-            "sides",
-            faces(&[(0, false), (0, true), (1, false), (1, true)]),
-        ),
+        group("top", &[(2, true)]),
+        group("bottom", &[(2, false)]),
+        group("sides", &[(0, false), (0, true), (1, false), (1, true)]),
     ];
     let boxes_total = n[0] * n[1] * n[2];
     Ok(Some(LocalMesh {
@@ -235,7 +268,7 @@ pub fn own_part(h: f64, q1: bool, nparts: usize, p: usize) -> Result<Option<Loca
         global_cells: if q1 { boxes_total } else { 6 * boxes_total },
         cell_kinds: kinds_label(3, &cells),
         owned_start: start[p],
-        owned_count,
+        owned_count: boxes[p].count(),
         node_global,
         node_tag,
         coords,

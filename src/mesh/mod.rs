@@ -431,7 +431,7 @@ impl Mesh {
                     .iter()
                     .flat_map(|&n| self.coords[n * d..(n + 1) * d].iter().copied())
                     .collect();
-                crate::fem::element::jacobians(d, &pts)
+                crate::element::jacobians(d, &pts)
                     .iter()
                     .map(|(w, j)| w * j)
                     .sum()
@@ -455,7 +455,7 @@ impl Mesh {
             .iter()
             .flat_map(|&n| self.coords[n * d..(n + 1) * d].iter().copied())
             .collect();
-        crate::fem::element::jacobians(d, &pts)
+        crate::element::jacobians(d, &pts)
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(_, j)| {
                 (lo.min(j), hi.max(j))

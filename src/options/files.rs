@@ -106,27 +106,7 @@ fn is_options_file(t: &str) -> bool {
     t.eq_ignore_ascii_case("-options_file")
 }
 
-/// PETSc's `PetscOptionsValidKey`: `-` then a letter, and not a number
-/// (`-inf`, `-nan`).
-pub fn is_key(s: &str) -> bool {
-    let k = match s.strip_prefix("--") {
-        Some(rest) => rest,
-        None => match s.strip_prefix('-') {
-            Some(rest) => rest,
-            None => return false,
-        },
-    };
-    if !k.starts_with(|c: char| c.is_ascii_alphabetic()) {
-        return false;
-    }
-    let lower = k.to_ascii_lowercase();
-    for number in ["infinity", "inf", "nan"] {
-        if let Some(after) = lower.strip_prefix(number) {
-            return after.starts_with(|c: char| c == '_' || c.is_ascii_alphanumeric());
-        }
-    }
-    true
-}
+pub use crate::petsc::options::is_key;
 
 /// A line split as PETSc's `PetscTokenFind` splits it: on spaces; a token
 /// that starts with a double quote runs to the next one (quotes removed).

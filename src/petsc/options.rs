@@ -122,7 +122,7 @@ pub fn all_pairs() -> Result<Vec<(String, Option<String>)>, Error> {
     let words: Vec<&str> = all.split_whitespace().collect();
     let mut out: Vec<(String, Option<String>)> = Vec::new();
     for w in words {
-        if crate::options::files::is_key(w) {
+        if is_key(w) {
             out.push((w.to_string(), None));
         } else if let Some((_, v @ None)) = out.last_mut() {
             *v = Some(w.to_string());
@@ -139,6 +139,28 @@ pub fn all_names() -> Result<Vec<String>, Error> {
         .filter(|t| t.starts_with('-') && t.len() > 1 && t.parse::<f64>().is_err())
         .map(|t| t.to_string())
         .collect())
+}
+
+/// PETSc's `PetscOptionsValidKey`: `-` then a letter, and not a number
+/// (`-inf`, `-nan`).
+pub fn is_key(s: &str) -> bool {
+    let k = match s.strip_prefix("--") {
+        Some(rest) => rest,
+        None => match s.strip_prefix('-') {
+            Some(rest) => rest,
+            None => return false,
+        },
+    };
+    if !k.starts_with(|c: char| c.is_ascii_alphabetic()) {
+        return false;
+    }
+    let lower = k.to_ascii_lowercase();
+    for number in ["infinity", "inf", "nan"] {
+        if let Some(after) = lower.strip_prefix(number) {
+            return after.starts_with(|c: char| c == '_' || c.is_ascii_alphanumeric());
+        }
+    }
+    true
 }
 
 #[cfg(test)]

@@ -185,7 +185,7 @@ fn read_into(copy: sys::PetscOptions, all: &CStr) -> Result<Vec<String>, String>
     let names = all.to_string_lossy();
     let mut used: Vec<String> = names
         .split_whitespace()
-        .filter(|w| crate::options::files::is_key(w))
+        .filter(|w| super::options::is_key(w))
         .filter(|w| !left.iter().any(|l| l == w))
         .map(String::from)
         .collect();

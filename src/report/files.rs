@@ -5,7 +5,6 @@
 
 use super::vtk::{self, Field, Piece};
 use super::{json, plot, ContactRow, Results};
-use crate::comm::allreduce_max;
 use crate::contact::hertz;
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;

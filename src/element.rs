@@ -40,6 +40,7 @@
 //! exactly (the patch test, `tests` below), because it integrates
 //! `int grad N_a dx` exactly.
 
+use nalgebra::SMatrix;
 use std::sync::OnceLock;
 
 /// The Gauss points of the 2-point rule on `[-1, 1]` (weights 1).
@@ -467,10 +468,34 @@ pub fn facet_weights(pts: &[&[f64]], out: &mut Vec<f64>) {
     }
 }
 
+/// Isotropic Hooke law in Voigt notation (engineering shear strains).
+pub fn hooke_2d(young: f64, nu: f64, plane_stress: bool) -> SMatrix<f64, 3, 3> {
+    let (c11, c12, c33) = if plane_stress {
+        let c = young / (1.0 - nu * nu);
+        (c, c * nu, c * (1.0 - nu) / 2.0)
+    } else {
+        let c = young / ((1.0 + nu) * (1.0 - 2.0 * nu));
+        (c * (1.0 - nu), c * nu, c * (1.0 - 2.0 * nu) / 2.0)
+    };
+    SMatrix::<f64, 3, 3>::new(c11, c12, 0.0, c12, c11, 0.0, 0.0, 0.0, c33)
+}
+
+pub fn hooke_3d(young: f64, nu: f64) -> SMatrix<f64, 6, 6> {
+    let c = young / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    let (a, b, g) = (c * (1.0 - nu), c * nu, young / (2.0 * (1.0 + nu)));
+    let mut d = SMatrix::<f64, 6, 6>::zeros();
+    for i in 0..3 {
+        for j in 0..3 {
+            d[(i, j)] = if i == j { a } else { b };
+        }
+        d[(i + 3, i + 3)] = g;
+    }
+    d
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::{hooke_2d, hooke_3d};
     use nalgebra::{DMatrix, DVector};
 
     /// `B^T D B` integrated with the same rule: the reference for the isotropic form.
