@@ -19,7 +19,8 @@
 //!    pointwise projections;
 //! 7. [`linalg`]: the linear back-ends (PETSc's KSP, MUMPS called
 //!    directly, orderings, the Schur complement);
-//! 8. [`wellposed`]: the analysis of the scene (what holds each body);
+//! 8. [`wellposed`], [`touching`]: the analysis of the scene (what holds
+//!    each body; parts of the mesh that touch or overlap);
 //! 9. [`solver`]: the discrete problem and the algorithms (UBR-C, UBR-TF,
 //!    CF-FP, the choice of r, the comparators SSN-C and SNES VI);
 //! 10. [`checks`]: the checks of a solution and the set-up warnings;
@@ -44,6 +45,7 @@ pub mod petsc;
 pub mod progress;
 pub mod report;
 pub mod solver;
+pub mod touching;
 pub mod wellposed;
 
 pub use petsc::{Events, Stages};

@@ -26,7 +26,7 @@ const FLOORS: &[&[&str]] = &[
     &["fem"],
     &["contact"],
     &["linalg"],
-    &["wellposed"],
+    &["wellposed", "touching"],
     &["solver"],
     &["checks"],
     &["report"],

@@ -17,7 +17,6 @@ pub mod snesvi;
 pub mod ssn;
 pub mod stopping;
 pub mod surface;
-pub mod touching;
 pub mod ubr;
 
 use surface::Surface;
