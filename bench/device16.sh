@@ -2,7 +2,7 @@
 # Strong scaling on a lent 16-core machine in one prepared call (issue "Scaling studies"):
 # the 2D (-mesh_h 0.01) and 3D (-mesh_h 0.0333) direct scenes at 1..16 ranks, the 1M-node
 # GAMG block at 16, and variants. Needs the relocatable bundle (../shared/tools/bundle) in
-# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh [full|partition|local|final]
+# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh [full|partition|local|final|repeat]
 # Writes $OUT/dev.log (summary lines) and $OUT/runs.txt (every run's whole output).
 set -u
 OUT=${OUT:-/tmp/out}; mkdir -p "$OUT"
@@ -58,6 +58,11 @@ echo "== 2D direct"; for n in 1 2 4 8; do one $n d2 $H2; done; one 16 d2 $H2 -lo
 echo "== 3D direct"; for n in 1 2 4 8; do one $n d3 $H3; done; one 16 d3 $H3 -log_view
 echo "== 1M GAMG"; one 16 g3rcb $G3 -partition rcb -log_view; one 16 g3 $G3 -log_view
 echo "== variants"; one 16 d3full $H3 -ubr_condense_max 0 -log_view; one 16 d2 $H2
+;;
+repeat)  # more samples of the final table's end points, for medians
+echo "== 2D direct"; for r in 1 2; do one 1 d2 $H2; done; for r in 1 2 3; do one 16 d2 $H2; done
+echo "== 3D direct"; for r in 1 2; do one 1 d3 $H3; done; for r in 1 2 3; do one 16 d3 $H3; done
+echo "== 1M GAMG"; one 16 g3rcb $G3 -partition rcb; one 16 g3 $G3
 ;;
 esac
 echo "== done after $(( $(date +%s) - T0 )) s"
