@@ -1,12 +1,16 @@
 //! Distribution of a serial mesh over the ranks.
 //!
-//! Rank 0 holds the whole mesh. METIS partitions the nodal graph into one part
+//! Rank 0 holds the whole mesh. METIS (or RCB) partitions it into one part
 //! per rank; nodes are renumbered so that each rank owns a contiguous block of
 //! global node numbers (part 0 first). Each rank then receives only the cells
 //! that touch one of its nodes, with every node those cells use (its owned
 //! nodes first, then the "ghost" nodes of its neighbours), and the group
 //! elements that touch one of its nodes. With that, a rank assembles the full
 //! rows of the nodes it owns without any communication.
+//!
+//! A generated mesh split by RCB skips rank 0: every rank cuts the mesh the
+//! same way and keeps its own part (own_part_rcb here; the block's boxes in
+//! block3d_parts.rs, without the rest of the mesh).
 
 use super::{Cells, Group, Mesh};
 use crate::error::Error;
