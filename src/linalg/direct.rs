@@ -183,35 +183,7 @@ fn host_order(
         xadj[g + 1] = adjncy.len() as i32;
     }
     drop(lists);
-    let mut perm = vec![0i32; n];
-    let mut iperm = vec![0i32; n];
-    if n > 0 {
-        let mut nvtxs = n as i32;
-        let mut options = [0i32; metis_sys::METIS_NOPTIONS as usize];
-        // SAFETY: the arrays are valid for the sizes METIS reads (n + 1 row
-        // pointers, xadj[n] neighbours, n entries of perm and iperm,
-        // METIS_NOPTIONS options), and METIS keeps no pointer after the call.
-        unsafe {
-            metis_sys::METIS_SetDefaultOptions(options.as_mut_ptr());
-            let r = metis_sys::METIS_NodeND(
-                &mut nvtxs,
-                xadj.as_mut_ptr(),
-                adjncy.as_mut_ptr(),
-                std::ptr::null_mut(),
-                options.as_mut_ptr(),
-                perm.as_mut_ptr(),
-                iperm.as_mut_ptr(),
-            );
-            if r == metis_sys::rstatus_et_METIS_ERROR_MEMORY {
-                return Err(Error::OutOfMemory(format!(
-                    "METIS could not allocate the nested-dissection ordering of {n} nodes on rank 0"
-                )));
-            }
-            if r != metis_sys::rstatus_et_METIS_OK {
-                return Err(Error::Internal(format!("METIS_NodeND failed ({r})")));
-            }
-        }
-    }
+    let perm = super::ordering::metis_nd(&mut xadj, &mut adjncy)?;
     let order: Vec<usize> = perm.iter().map(|&g| g as usize).collect();
     Ok(super::ordering::dof_permutation(
         &order,

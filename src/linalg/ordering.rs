@@ -55,7 +55,7 @@ fn post_order(lo: usize, hi: usize, out: &mut Vec<(usize, usize)>) {
 
 /// METIS_NodeND of a graph in compressed rows (no self loops); the order as
 /// a list of vertices (new -> old).
-fn metis_nd(xadj: &mut [i32], adjncy: &mut [i32]) -> Result<Vec<i32>, Error> {
+pub(super) fn metis_nd(xadj: &mut [i32], adjncy: &mut [i32]) -> Result<Vec<i32>, Error> {
     let n = xadj.len() - 1;
     let mut perm = vec![0i32; n];
     let mut iperm = vec![0i32; n];
@@ -81,7 +81,7 @@ fn metis_nd(xadj: &mut [i32], adjncy: &mut [i32]) -> Result<Vec<i32>, Error> {
     };
     if r == metis_sys::rstatus_et_METIS_ERROR_MEMORY {
         return Err(Error::OutOfMemory(format!(
-            "METIS could not allocate the nested-dissection ordering of a part of {n} nodes"
+            "METIS could not allocate the nested-dissection ordering of {n} nodes"
         )));
     }
     if r != metis_sys::rstatus_et_METIS_OK {

@@ -334,20 +334,9 @@ pub fn split(mesh: &Mesh, part: &[usize], order: &[usize], nparts: usize) -> Vec
 /// part `p`'s cells are visited; nothing is sent.
 pub fn own_part_rcb(mesh: &Mesh, nparts: usize, p: usize) -> LocalMesh {
     let part = partition_rcb(&mesh.coords, mesh.dim, nparts);
-    // A stable counting sort of the nodes by part.
-    let mut start = vec![0usize; nparts + 1];
-    for &q in &part {
-        start[q + 1] += 1;
-    }
-    for q in 0..nparts {
-        start[q + 1] += start[q];
-    }
-    let mut next = start.clone();
-    let mut order = vec![0usize; part.len()];
-    for (v, &q) in part.iter().enumerate() {
-        order[next[q]] = v;
-        next[q] += 1;
-    }
+    // The nodes part by part, each part in the mesh's order (a stable sort).
+    let mut order: Vec<usize> = (0..part.len()).collect();
+    order.sort_by_key(|&v| part[v]);
     let numbering = Numbering::new(&part, &order, nparts);
     let cells: Vec<usize> = mesh
         .cells
