@@ -23,6 +23,8 @@ use crate::wellposed::{self, Restraint};
 use mpi::traits::*;
 use std::time::Instant;
 
+mod history;
+
 /// The candidates, the owned Dirichlet dofs and values, and what holds the
 /// bodies.
 type ContactSetup = (ContactSet, Vec<(usize, f64)>, Restraint);
@@ -107,6 +109,12 @@ struct ContactProblem<'w, C: Communicator> {
     r_trial: Option<f64>,
     /// Whether the run reached the output step.
     outputs_reached: bool,
+    /// A load history's rows, one per step solved, and its curve's name.
+    steps: Vec<report::history::StepRow>,
+    curve_label: String,
+    /// While the steps of a history are checked: their warnings are left
+    /// to the check of the last step.
+    muted: bool,
 }
 
 /// An r given by `-ubr_r` more than this factor away from the trial r0
@@ -164,6 +172,9 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             touched: false,
             r_trial: None,
             outputs_reached: false,
+            steps: Vec::new(),
+            curve_label: String::new(),
+            muted: false,
         })
     }
 
@@ -194,7 +205,12 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         unused.early(self.root)?;
         let mut solution = None;
         if failure.is_none() {
-            match self.solve(&local, &mut problem, &restraint) {
+            let solved = if self.settings.history.is_some() {
+                self.solve_history(&local, &mut problem, &restraint)
+            } else {
+                self.solve(&local, &mut problem, &restraint)
+            };
+            match solved {
                 Ok(s) => solution = Some(s),
                 Err(e) if e.is_outcome() => failure = Some(e),
                 Err(e) => return Err(e),
@@ -317,6 +333,10 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
 
     /// Prints a warning once (rank 0) and keeps it for the report.
     fn warn(&mut self, message: String) {
+        // (The steps of a load history check each answer: once is enough.)
+        if self.muted || self.warnings.contains(&message) {
+            return;
+        }
         if self.root {
             eprintln!("warning: {message}");
         }
@@ -640,6 +660,25 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             };
             report::summary::print(&results);
             written = files::write_root_files(&results);
+            if let Some(h) = &s.history {
+                let groups: Vec<String> = h.groups.iter().map(|g| g.name()).collect();
+                let table = report::history::write_files(
+                    s.history_output.as_deref(),
+                    s.plot_history_curve.as_deref(),
+                    &groups,
+                    d,
+                    &self.curve_label,
+                    &self.steps,
+                );
+                written = written.and(table);
+                if let Some(vtk) = &s.vtk {
+                    let path = report::history::pvd_path(vtk);
+                    let text = report::history::pvd(vtk, self.steps.len());
+                    let pvd = report::write_atomic(std::path::Path::new(&path), text.as_bytes())
+                        .map_err(|e| Error::output("-vtk", &path, e));
+                    written = written.and(pvd);
+                }
+            }
         }
         if let Some(path) = &s.vtk {
             let rows = report::broadcast_rows(world, &checked.rows);

@@ -212,9 +212,18 @@ fn friction<C: Communicator>(world: &C, p: &Problem, st: &UbrState, bound: &[f64
     let max_bound = allreduce_max(world, local_bound);
     // Where the bound is meaningful: s above 1e-6 of the largest.
     let meaningful = |i: usize| touching(i) && b(i) > 1e-6 * max_bound;
+    // The slip: u_t, or in a load history its change over the step
+    // (quasi-static friction: u_t less the step's origin).
+    let slip_of = |i: usize| -> [f64; 3] {
+        let mut v = [0.0; 3];
+        for c in 0..d {
+            v[c] = sf.ut[i * d + c] - sf.slip_origin.get(i * d + c).copied().unwrap_or(0.0);
+        }
+        v
+    };
     let (mut excess, mut max_slip, mut stick_slip) = (f64::NEG_INFINITY, 0.0f64, 0.0f64);
     for i in (0..p.contact.len()).filter(|&i| touching(i)) {
-        let slip = norm(&sf.ut[i * d..(i + 1) * d]);
+        let slip = norm(&slip_of(i)[..d]);
         max_slip = max_slip.max(slip);
         if !sf.slip[i] && meaningful(i) {
             stick_slip = stick_slip.max(slip);
@@ -224,7 +233,8 @@ fn friction<C: Communicator>(world: &C, p: &Problem, st: &UbrState, bound: &[f64
     let [excess, max_slip, stick_slip] = allreduce_max_n(world, [excess, max_slip, stick_slip]);
     let mut min_cos = 1.0f64;
     for i in (0..p.contact.len()).filter(|&i| meaningful(i) && sf.slip[i]) {
-        let ut = &sf.ut[i * d..(i + 1) * d];
+        let sl = slip_of(i);
+        let ut = &sl[..d];
         let lt = &sf.stress_t[i * d..(i + 1) * d];
         let (nu, nl) = (norm(ut), norm(lt));
         if nu > 1e-6 * max_slip && nl > 0.0 {

@@ -10,6 +10,7 @@
 pub mod choices;
 pub mod declared;
 pub mod files;
+pub mod history;
 pub mod inert;
 pub mod outputs;
 pub mod solver;
@@ -196,6 +197,11 @@ pub struct Settings {
     pub vtk: Option<String>,
     pub plot_contact: Option<String>,
     pub plot_history: Option<String>,
+    /// A load history (`-load_steps`, `-load_history`; None: one solve at
+    /// the full load) and its outputs.
+    pub history: Option<history::LoadHistory>,
+    pub history_output: Option<String>,
+    pub plot_history_curve: Option<String>,
     /// What the program changed in the user's input (`note: ...`, e.g. a
     /// contact direction normalised) and what in it has no effect
     /// (`warning: ...`: an option the scene ignores, a mistyped name), each
@@ -566,6 +572,41 @@ fn friction() -> Result<(Friction, f64, Option<TrescaBound>), Error> {
     Ok((friction, coefficient.unwrap_or(0.0), tresca_bound))
 }
 
+/// `-load_steps`/`-load_history` ([`history::read`]), and the outputs and
+/// algorithm they need.
+fn load_history(
+    dirichlet: &[DirichletBc],
+    traction: &[TractionBc],
+    pressure: &[PressureBc],
+    body_force: &Option<Vec<f64>>,
+    algorithm: Algorithm,
+    out: &outputs::Outputs,
+) -> Result<Option<history::LoadHistory>, Error> {
+    let history = history::read(&history::Loads {
+        dirichlet,
+        traction,
+        pressure,
+        body: body_force.is_some(),
+    })?;
+    if history.is_none() {
+        for (name, given) in [
+            (HISTORY_OUTPUT.name, &out.history_output),
+            (PLOT_HISTORY_CURVE.name, &out.plot_history_curve),
+        ] {
+            if given.is_some() {
+                return bad(format!(
+                    "option {name} needs a load history (-load_steps N or -load_history FILE)"
+                ));
+            }
+        }
+    } else if algorithm != Algorithm::Ubr {
+        return bad(format!(
+            "option -contact_algorithm {algorithm}: load histories (-load_steps, -load_history) run with UBR (-contact_algorithm ubr)"
+        ));
+    }
+    Ok(history)
+}
+
 impl Settings {
     /// Reads every option. Runs identically on every rank, so its errors are collective.
     pub fn from_options() -> Result<Settings, Error> {
@@ -602,6 +643,14 @@ impl Settings {
                 "option -contact_algorithm {algorithm}: this comparator is frictionless (-friction none)"
             ));
         }
+        let history = load_history(
+            &dirichlet,
+            &traction,
+            &pressure,
+            &body_force,
+            algorithm,
+            &out,
+        )?;
         let solver_read = solver::check(ranks)?;
         unused::set_solver_options(solver_read.clone());
         let linear = LinearBackend::of(
@@ -655,6 +704,9 @@ impl Settings {
             vtk: out.vtk,
             plot_contact: out.plot_contact,
             plot_history: out.plot_history,
+            history,
+            history_output: out.history_output,
+            plot_history_curve: out.plot_history_curve,
             notes,
         };
         // What has no effect here, named now, before any work.

@@ -57,6 +57,9 @@ pub struct LinearSolver {
     pub description: String,
     r_assembled: f64,
     r: f64,
+    /// The r at which `rhs0` was made (the assembly's): a full back-end
+    /// that changed r adds the difference's Dirichlet part to a new load.
+    r_original: f64,
     /// Condensed: `u_C` of `rhs0` (this rank's candidates, the Schur
     /// components) at the assembled r and at the current r.
     y0: Option<(Vec<f64>, Vec<f64>)>,
@@ -130,6 +133,7 @@ impl LinearSolver {
             description,
             r_assembled: r,
             r,
+            r_original: r,
             y0: None,
             comps: Vec::new(),
             dim,
@@ -422,6 +426,71 @@ impl LinearSolver {
         c.iter().zip(&m).map(|(a, b)| a - delta * b).collect()
     }
 
+    /// Condensed, S already shifted to the current r: y0 at r from `y0a`
+    /// (at the assembled r), `S_r y0 = S_r_a y0a - (r - r_a) M_FD x_D`.
+    fn y0_shifted(&mut self, surface: &Surface, y0a: &[f64]) -> Result<Vec<f64>, Error> {
+        let d = surface.dim;
+        let delta = self.r - self.r_assembled;
+        let Engine::Direct(dd) = &mut self.engine else {
+            return Err(Error::Internal("condensed without MUMPS".into()));
+        };
+        let mut b = vec![0.0; y0a.len()];
+        dd.apply_schur(&self.world, y0a, &mut b);
+        let mut col = vec![0.0; surface.len() * d];
+        surface.apply_contact_block(&self.xd_c, &mut col);
+        let col: Vec<f64> = col
+            .chunks_exact(d)
+            .flat_map(|x| self.comps.iter().map(move |&c| x[c]))
+            .collect();
+        for (bi, ci) in b.iter_mut().zip(&col) {
+            *bi -= delta * ci;
+        }
+        let mut y0 = vec![0.0; b.len()];
+        dd.solve_schur(&self.world, &b, &mut y0)?;
+        Ok(y0)
+    }
+
+    /// A new load on the same factorization (a step of a load history):
+    /// `rhs0` (made at the assembly's r), the Dirichlet values at the
+    /// contact unknowns `xd_c` and the owned Dirichlet dofs and values;
+    /// condensed, `y0` from one solve with the factors (and a dense solve
+    /// where r moved).
+    pub fn set_load(
+        &mut self,
+        surface: &Surface,
+        rhs0: &[f64],
+        xd_c: Vec<f64>,
+        dirichlet: Vec<(usize, f64)>,
+    ) -> Result<(), Error> {
+        self.rhs0.write(|b| b.copy_from_slice(rhs0))?;
+        self.xd_c = xd_c;
+        self.dirichlet = dirichlet;
+        let delta = self.r_assembled - self.r_original;
+        if delta != 0.0 {
+            // A full back-end at r' = r_assembled: the lifted load's
+            // Dirichlet part at the contact blocks, as `set_r` moved it.
+            let mut col = vec![0.0; surface.len() * surface.dim];
+            surface.apply_contact_block(&self.xd_c, &mut col);
+            col.iter_mut().for_each(|x| *x *= -delta);
+            scatter_add(surface, &col, &self.rhs0)?;
+        }
+        if self.y0.is_none() || self.failure().is_some() {
+            return Ok(());
+        }
+        self.solves += 1;
+        let mut y0a = vec![0.0; surface.len() * self.comps.len()];
+        if let Engine::Direct(d) = &mut self.engine {
+            d.solve_contact_part(&self.world, rhs0, &mut y0a, 2)?;
+        }
+        let y0 = if self.r == self.r_assembled {
+            y0a.clone()
+        } else {
+            self.y0_shifted(surface, &y0a)?
+        };
+        self.y0 = Some((y0a, y0));
+        Ok(())
+    }
+
     /// Changes r to `r_new`: see the module documentation.
     pub fn set_r(&mut self, surface: &Surface, r_new: f64, mesh_start: usize) -> Result<(), Error> {
         if r_new == self.r {
@@ -446,22 +515,10 @@ impl LinearSolver {
                 }
             }
             dd.shift_schur(&self.world, delta, &blocks, nk)?;
-            // y0 at r': S_r' y0' = S_r_a y0 - delta M_FD x_D.
-            let mut b = vec![0.0; y0a.len()];
-            dd.apply_schur(&self.world, y0a, &mut b);
-            let mut col = vec![0.0; m];
-            surface.apply_contact_block(&self.xd_c, &mut col);
-            let col: Vec<f64> = col
-                .chunks_exact(d)
-                .flat_map(|x| self.comps.iter().map(move |&c| x[c]))
-                .collect();
-            for (bi, ci) in b.iter_mut().zip(&col) {
-                *bi -= delta * ci;
-            }
-            let mut y0 = vec![0.0; b.len()];
-            dd.solve_schur(&self.world, &b, &mut y0)?;
-            self.y0.as_mut().expect("condensed").1 = y0;
+            let y0a = y0a.clone();
             self.r = r_new;
+            let y0 = self.y0_shifted(surface, &y0a)?;
+            self.y0.as_mut().expect("condensed").1 = y0;
             return Ok(());
         }
         // Full: the matrix's contact blocks and the lifted load change.

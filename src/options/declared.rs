@@ -290,6 +290,11 @@ opt!(CONTACT_OUTPUT: Given = "-contact_output" "FILE.csv", Given("none"), "write
 opt!(VTK: Given = "-vtk" "FILE.vtu|PATH.pvtu", Given("none"), "ParaView output with displacement, stress, von Mises, rank, contact fields and the mesh file's node tag: FILE.vtu, one file gathered on rank 0 (readable by meshio); PATH.pvtu, an index and one PATH_RANK.vtu piece per rank");
 opt!(PLOT_CONTACT: Given = "-plot_contact" "FILE.png", Given("none"), "plot the contact pressure (and tangential traction, friction bound, Hertz) along the surface: against a signed coordinate along it in 2D, the distance from the contact centre in 3D");
 opt!(PLOT_HISTORY: Given = "-plot_history" "FILE.png", Given("none"), "plot the UBR change (4.16)/(5.6) and constraint residual per iteration");
+opt!(LOAD_STEPS: Given = "-load_steps" "N", Given("1: one solve at the full load"), "a load history of N proportional steps: every load and prescribed displacement scaled by k/N at step k; one factorization for the whole history, each step warm-started from the last, friction quasi-static (on the slip of each step)");
+opt!(LOAD_HISTORY: Given = "-load_history" "FILE", Given("none"), "a load history from a table: a header 'step,factor' (every load scaled by factor) or 'step,GROUP,...' with GROUP one of traction_NAME, pressure_NAME, dirichlet_NAME, body (the load of that option, scaled by its column; loads not named stay at 1), then one row per step; '#' comments");
+opt!(HISTORY_OUTPUT: Given = "-history_output" "FILE.csv", Given("none"), "with a load history: one row per step (factors, contact force, contact area, peak pressure, stick/slip counts, each Dirichlet group's reaction, iterations, time); -vtk then also writes one file per step and a ParaView .pvd series");
+opt!(PLOT_HISTORY_CURVE: Given = "-plot_history_curve" "FILE.png", Given("none"), "with a load history: the force on a load group against its mean displacement over the steps (-history_curve)");
+opt!(HISTORY_CURVE: Given = "-history_curve" "GROUP[,ux|uy|uz]", Given("the first group of the history with a load, its largest component"), "the group of -plot_history_curve (dirichlet_NAME: its reaction; traction_NAME, pressure_NAME: the applied force) and the component of force and displacement");
 opt!(HELP: bool = "-help" "", false, "this list (PETSc's solver options are listed when a scene is given too)");
 
 /// Every option, in the order `-help` lists them.
@@ -348,6 +353,11 @@ pub const ALL: &[&dyn Declared] = &[
     &VTK,
     &PLOT_CONTACT,
     &PLOT_HISTORY,
+    &LOAD_STEPS,
+    &LOAD_HISTORY,
+    &HISTORY_OUTPUT,
+    &PLOT_HISTORY_CURVE,
+    &HISTORY_CURVE,
     &HELP,
 ];
 

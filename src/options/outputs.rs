@@ -12,7 +12,10 @@
 //!   overwrite the other. Paths are compared canonicalised where the file
 //!   exists, by their canonical directory and name otherwise.
 
-use super::declared::{Given, Opt, CONTACT_OUTPUT, PLOT_CONTACT, PLOT_HISTORY, REPORT, VTK};
+use super::declared::{
+    Given, Opt, CONTACT_OUTPUT, HISTORY_OUTPUT, PLOT_CONTACT, PLOT_HISTORY, PLOT_HISTORY_CURVE,
+    REPORT, VTK,
+};
 use super::MeshSource;
 use crate::error::{bad, Error};
 use std::path::{Component, Path, PathBuf};
@@ -25,6 +28,8 @@ pub struct Outputs {
     pub vtk: Option<String>,
     pub plot_contact: Option<String>,
     pub plot_history: Option<String>,
+    pub history_output: Option<String>,
+    pub plot_history_curve: Option<String>,
 }
 
 /// An output option: the extensions its file may have, and what it is.
@@ -34,7 +39,7 @@ struct Kind {
     what: &'static str,
 }
 
-const KINDS: [Kind; 5] = [
+const KINDS: [Kind; 7] = [
     Kind {
         opt: &REPORT,
         extensions: &[".json"],
@@ -57,6 +62,16 @@ const KINDS: [Kind; 5] = [
     },
     Kind {
         opt: &PLOT_HISTORY,
+        extensions: &[".png"],
+        what: "plots are PNG images",
+    },
+    Kind {
+        opt: &HISTORY_OUTPUT,
+        extensions: &[".csv"],
+        what: "the history table is CSV",
+    },
+    Kind {
+        opt: &PLOT_HISTORY_CURVE,
         extensions: &[".png"],
         what: "plots are PNG images",
     },
@@ -207,6 +222,8 @@ impl Outputs {
             vtk: get(&VTK),
             plot_contact: get(&PLOT_CONTACT),
             plot_history: get(&PLOT_HISTORY),
+            history_output: get(&HISTORY_OUTPUT),
+            plot_history_curve: get(&PLOT_HISTORY_CURVE),
         })
     }
 }

@@ -6,6 +6,7 @@
 //! (temporary file in the same directory, then rename).
 
 pub mod files;
+pub mod history;
 pub mod json;
 pub mod plot;
 pub mod summary;

@@ -10,6 +10,7 @@
 pub mod anderson;
 pub mod cf_fp;
 pub mod deferred;
+pub mod history;
 pub mod outcome;
 pub mod penalty;
 pub mod seat;
@@ -109,6 +110,8 @@ pub struct Problem {
     pub time_assembly: f64,
     pub time_factorization: f64,
     pub matrix_mallocs: f64,
+    /// The parts of the load of a history ([`history`]; None: one load).
+    pub parts: Option<history::LoadParts>,
 }
 
 impl Problem {
@@ -154,6 +157,7 @@ pub struct Assembled {
     r: f64,
     pub matrix_mallocs: f64,
     pub time_assembly: f64,
+    parts: Option<history::LoadParts>,
 }
 
 impl Problem {
@@ -193,7 +197,9 @@ impl Problem {
         load.write(|f| f.copy_from_slice(&load_local))?;
         let mut dirichlet = Dirichlet::new(dirichlet, nown, &contact, d);
         let matrix = el.stiffness;
+        let named = history::split(mesh, settings, &matrix, &el.lumped_mass, &load)?;
         let rhs0 = eliminate(world, mesh, &matrix, &load, &mut dirichlet)?;
+        let parts = history::finish(settings, named, &load, &rhs0, &dirichlet)?;
         matrix.set_spd()?;
         let matrix_mallocs = matrix.stats()?.mallocs;
         drop(guard);
@@ -209,6 +215,7 @@ impl Problem {
             r,
             matrix_mallocs,
             time_assembly: t0.elapsed().as_secs_f64(),
+            parts,
         })
     }
 
@@ -236,6 +243,7 @@ impl Problem {
             r,
             matrix_mallocs,
             time_assembly,
+            parts,
         } = assembled;
         let d = mesh.dim;
         let tangential = terms == ContactTerms::Ubr { tangential: true };
@@ -284,6 +292,7 @@ impl Problem {
             time_assembly,
             time_factorization: t1.elapsed().as_secs_f64(),
             matrix_mallocs,
+            parts,
         })
     }
 }

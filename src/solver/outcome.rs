@@ -448,10 +448,57 @@ pub fn solve<C: Communicator>(
     restraint: &Restraint,
     events: &Events,
 ) -> Result<(UbrState, Solved), Error> {
-    let friction_held = restraint.friction_held;
     if settings.algorithm != Algorithm::Ubr {
         return comparator(world, local, settings, problem, events);
     }
+    let mut state = UbrState::new(problem)?;
+    state.set_seat(seat::approach(world, local, restraint, problem)?);
+    let solved = run(
+        world, local, settings, problem, restraint, events, &mut state, None,
+    )?;
+    Ok((state, solved))
+}
+
+/// One step of a load history (UBR): the algorithm on the problem's
+/// current load from `state`, the previous step's iterate (warm); CF-FP
+/// starts from `s_prev`, the previous step's bound nu_f |lambda_c|, where
+/// no `-tresca_bound` gives s^0.
+#[allow(clippy::too_many_arguments)]
+pub fn solve_step<C: Communicator>(
+    world: &C,
+    local: &LocalMesh,
+    settings: &Settings,
+    problem: &mut Problem,
+    restraint: &Restraint,
+    events: &Events,
+    state: &mut UbrState,
+    s_prev: &[f64],
+) -> Result<Solved, Error> {
+    run(
+        world,
+        local,
+        settings,
+        problem,
+        restraint,
+        events,
+        state,
+        Some(s_prev),
+    )
+}
+
+/// UBR-C, UBR-TF or CF-FP from `state`.
+#[allow(clippy::too_many_arguments)]
+fn run<C: Communicator>(
+    world: &C,
+    local: &LocalMesh,
+    settings: &Settings,
+    problem: &mut Problem,
+    restraint: &Restraint,
+    events: &Events,
+    state: &mut UbrState,
+    s_prev: Option<&[f64]>,
+) -> Result<Solved, Error> {
+    let friction_held = restraint.friction_held;
     let u = &settings.ubr;
     let ctl = ubr::UbrControl {
         drift_limit: drift_limit(world, restraint, &problem.contact),
@@ -460,8 +507,6 @@ pub fn solve<C: Communicator>(
     };
     let nc = problem.contact.len();
     let nu_f = settings.friction_coefficient;
-    let mut state = UbrState::new(problem)?;
-    state.set_seat(seat::approach(world, local, restraint, problem)?);
     let mut solved = Solved::new();
     let accuracy = u.stop == StopRule::Accuracy;
     let mut bound_error = None;
@@ -473,7 +518,7 @@ pub fn solve<C: Communicator>(
             local,
             settings,
             problem,
-            &mut state,
+            state,
             &mut solved,
             &mut bound_error,
             &ctl,
@@ -482,7 +527,7 @@ pub fn solve<C: Communicator>(
     };
     match settings.friction {
         Friction::None => {
-            let run = ubr::ubr(world, problem, &mut state, None, &ctl, events)?;
+            let run = ubr::ubr(world, problem, state, None, &ctl, events)?;
             solved.take(run, accuracy);
         }
         Friction::Tresca => {
@@ -491,7 +536,7 @@ pub fn solve<C: Communicator>(
                 Some(s) => s,
                 None => {
                     // Default: as the paper's 3D setting, nu_f x lambda_c of a frictionless solve.
-                    match frictionless_bound(world, settings, problem, &mut state, &ctl, events) {
+                    match frictionless_bound(world, settings, problem, state, &ctl, events) {
                         Ok((s, error)) => {
                             solved.frictionless_iterations = error.iterations;
                             bound_error = Some(error);
@@ -500,7 +545,7 @@ pub fn solve<C: Communicator>(
                         Err(Error::NotConverged(why)) => {
                             solved.failure = Some(why);
                             solved.last = ubr::UbrOutcome::default();
-                            return Ok((state, solved));
+                            return Ok(solved);
                         }
                         Err(e) => return Err(e),
                     }
@@ -509,7 +554,7 @@ pub fn solve<C: Communicator>(
             tresca(
                 world,
                 problem,
-                &mut state,
+                state,
                 s,
                 &ctl,
                 bound_error,
@@ -523,11 +568,13 @@ pub fn solve<C: Communicator>(
             // friction alone holds the body: that solve has no solution
             // then, and the first Tresca solve sticks (s^0 = infinity).
             let stick = if friction_held { f64::INFINITY } else { 0.0 };
-            let s0 = explicit.unwrap_or_else(|| vec![stick; nc]);
+            let s0 = explicit
+                .or_else(|| s_prev.map(<[f64]>::to_vec))
+                .unwrap_or_else(|| vec![stick; nc]);
             let fp = cf_fp::cf_fp(
                 world,
                 problem,
-                &mut state,
+                state,
                 nu_f,
                 s0,
                 &ctl,
@@ -547,5 +594,5 @@ pub fn solve<C: Communicator>(
             solved.bound = fp.bound;
         }
     }
-    Ok((state, solved))
+    Ok(solved)
 }

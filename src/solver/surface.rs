@@ -28,6 +28,12 @@ pub struct SurfaceState {
     /// Status from the last projection.
     pub in_contact: Vec<bool>,
     pub slip: Vec<bool>,
+    /// Quasi-static friction (a load history): the tangential displacement
+    /// at the end of the previous load step (`dim` values per candidate),
+    /// from which the friction law (5.5) measures the slip of this step;
+    /// empty: the paper's static law (the slip from the undeformed state).
+    /// A cold start keeps it.
+    pub slip_origin: Vec<f64>,
 }
 
 impl SurfaceState {
@@ -43,6 +49,7 @@ impl SurfaceState {
             ut: vec![0.0; nc * d],
             in_contact: vec![false; nc],
             slip: vec![false; nc],
+            slip_origin: Vec::new(),
         }
     }
 

@@ -341,8 +341,17 @@ impl<'a, C: Communicator> Run<'a, C> {
         ext.f_t = ext.f_t.max(ft.sqrt());
         let mut phi_t = [0.0; 3];
         let mut lam_t = [0.0; 3];
+        // Quasi-static friction: (5.5) on the slip of this load step,
+        // u_t - o (o: the step's origin), phi_t = o + the projection.
+        let origin = st.slip_origin.get(t.clone());
+        let mut slip_ut = *ut;
+        if let Some(o) = origin {
+            for cc in 0..d {
+                slip_ut[cc] -= o[cc];
+            }
+        }
         let slip = project_tangential(
-            &ut[..d],
+            &slip_ut[..d],
             &st.lambda_t[t.clone()],
             bound,
             r,
@@ -350,6 +359,11 @@ impl<'a, C: Communicator> Run<'a, C> {
             &mut phi_t[..d],
             &mut lam_t[..d],
         );
+        if let Some(o) = origin {
+            for cc in 0..d {
+                phi_t[cc] += o[cc];
+            }
+        }
         for cc in 0..d {
             let old = st.phi_t[i * d + cc];
             sums.dphi2 += w * (phi_t[cc] - old).powi(2);
@@ -723,13 +737,32 @@ impl<'a, C: Communicator> Run<'a, C> {
             st.lambda_n[i] = lambda;
             if let Some(bound) = self.friction_bound {
                 let t = i * d..(i + 1) * d;
-                project_tangential_z(
-                    &zi[nc + i * d..nc + (i + 1) * d],
-                    bound[i],
-                    r,
-                    &mut st.phi_t[t.clone()],
-                    &mut st.lambda_t[t],
-                );
+                let z = &zi[nc + i * d..nc + (i + 1) * d];
+                match st.slip_origin.get(t.clone()) {
+                    // Quasi-static: lambda_t = P_s(z - r o), phi_t =
+                    // (z - lambda_t) / r (o + the slip of the step).
+                    Some(o) => {
+                        let mut zs = [0.0; 3];
+                        for ((s, z), o) in zs.iter_mut().zip(z).zip(o) {
+                            *s = z - r * o;
+                        }
+                        let lam = &mut st.lambda_t[t.clone()];
+                        project_tangential_z(&zs[..d], bound[i], r, &mut st.phi_t[t.clone()], lam);
+                        let (phi, lam) = (&mut st.phi_t[t.clone()], &st.lambda_t[t]);
+                        for ((p, z), l) in phi.iter_mut().zip(z).zip(lam) {
+                            *p = (z - l) / r;
+                        }
+                    }
+                    None => {
+                        project_tangential_z(
+                            z,
+                            bound[i],
+                            r,
+                            &mut st.phi_t[t.clone()],
+                            &mut st.lambda_t[t],
+                        );
+                    }
+                }
             }
         }
     }

@@ -1,0 +1,360 @@
+//! The Iterations stage of a load history: every step on the one
+//! factorization ([`Problem::apply_load`]), warm-started from the step
+//! before, friction quasi-static (the slip measured from the previous
+//! step's tangential displacement), a row of measures per step and, with
+//! `-vtk`, one ParaView file per step.
+
+use super::{ContactProblem, Solution};
+use crate::comm::allreduce_sum_vec;
+use crate::error::Error;
+use crate::fem;
+use crate::mesh::distribute::LocalMesh;
+use crate::options::history::{LoadGroup, LoadHistory};
+use crate::options::{Friction, Settings};
+use crate::progress;
+use crate::report::history::{step_path, StepRow};
+use crate::report::{self, files, ContactRow};
+use crate::solver::outcome;
+use crate::solver::Problem;
+use crate::wellposed::Restraint;
+use mpi::traits::*;
+use std::time::Instant;
+
+/// The force-displacement curve of a history: a load group, a component,
+/// the group's owned nodes and its force at factor 1 (applied loads).
+pub struct Curve {
+    pub label: String,
+    group: LoadGroup,
+    comp: usize,
+    nodes: Vec<usize>,
+    count: f64,
+    full_force: Vec<f64>,
+}
+
+impl Curve {
+    /// The curve `-history_curve` names, else the first group of the
+    /// history with a load (a Dirichlet group with a non-zero value first),
+    /// along its largest component.
+    pub fn new<C: Communicator>(
+        world: &C,
+        local: &LocalMesh,
+        s: &Settings,
+        problem: &Problem,
+    ) -> Result<Curve, Error> {
+        let h = s.history.as_ref().expect("a load history");
+        let d = local.dim;
+        let (group, comp) = match &h.curve {
+            Some((g, c)) => (g.clone(), *c),
+            None => (default_group(s, h), None),
+        };
+        let force = applied_force(world, local, s, problem, &group)?;
+        let (option, name) = match &group {
+            LoadGroup::Traction(n) => ("-traction_", n.as_str()),
+            LoadGroup::Pressure(n) => ("-pressure_", n.as_str()),
+            LoadGroup::Dirichlet(n) => ("-dirichlet_", n.as_str()),
+            LoadGroup::Body | LoadGroup::All => ("", ""),
+        };
+        let nodes: Vec<usize> = if name.is_empty() {
+            (0..local.owned_count).collect()
+        } else {
+            let g = local.group_for(&format!("{option}{name}"), name, 0..=d - 1, "a load")?;
+            let mut v: Vec<usize> = g
+                .conn
+                .nodes()
+                .iter()
+                .copied()
+                .filter(|&v| local.is_owned(v))
+                .collect();
+            v.sort_unstable();
+            v.dedup();
+            v
+        };
+        let count = allreduce_sum_vec(world, &[nodes.len() as f64])[0].max(1.0);
+        let comp = comp.unwrap_or_else(|| largest_component(s, &group, &force, d));
+        let label = format!("{}_{}", group.name(), ["ux", "uy", "uz"][comp]);
+        Ok(Curve {
+            label,
+            group,
+            comp,
+            nodes,
+            count,
+            full_force: force,
+        })
+    }
+
+    /// The point of a step: the group's mean displacement along the
+    /// component, and the force on it (a Dirichlet group's reaction, else
+    /// the applied load at the step's factor). Collective.
+    fn point<C: Communicator>(
+        &self,
+        world: &C,
+        h: &LoadHistory,
+        factors: &[f64],
+        d: usize,
+        u_local: &[f64],
+        reactions: &[(String, Vec<f64>)],
+    ) -> (f64, f64) {
+        let sum: f64 = self.nodes.iter().map(|&v| u_local[v * d + self.comp]).sum();
+        let x = allreduce_sum_vec(world, &[sum])[0] / self.count;
+        let y = match &self.group {
+            LoadGroup::Dirichlet(n) => reactions
+                .iter()
+                .find(|(g, _)| g == n)
+                .map_or(0.0, |(_, f)| f[self.comp]),
+            g => factor_of(h, g, factors) * self.full_force[self.comp],
+        };
+        (x, y)
+    }
+}
+
+/// The factor of group `g` at a step: its column, the proportional
+/// factor, or 1 (a load the history does not name).
+fn factor_of(h: &LoadHistory, g: &LoadGroup, factors: &[f64]) -> f64 {
+    if h.groups == [LoadGroup::All] {
+        return factors[0];
+    }
+    h.groups
+        .iter()
+        .position(|x| x == g)
+        .map_or(1.0, |k| factors[k])
+}
+
+fn default_group(s: &Settings, h: &LoadHistory) -> LoadGroup {
+    if let Some(g) = h.groups.iter().find(|g| **g != LoadGroup::All) {
+        return g.clone();
+    }
+    if let Some(b) = s
+        .dirichlet
+        .iter()
+        .find(|b| b.comps.iter().any(|&(_, v)| v != 0.0))
+    {
+        return LoadGroup::Dirichlet(b.group.clone());
+    }
+    if let Some(t) = s.traction.first() {
+        return LoadGroup::Traction(t.group.clone());
+    }
+    if let Some(p) = s.pressure.first() {
+        return LoadGroup::Pressure(p.group.clone());
+    }
+    LoadGroup::Body
+}
+
+/// The component of the curve: a Dirichlet group's largest prescribed
+/// value, else the largest component of the applied force.
+fn largest_component(s: &Settings, g: &LoadGroup, force: &[f64], d: usize) -> usize {
+    let mut best = (0, -1.0);
+    let mut consider = |c: usize, v: f64| {
+        if c < d && v.abs() > best.1 {
+            best = (c, v.abs());
+        }
+    };
+    match g {
+        LoadGroup::Dirichlet(n) => {
+            for b in s.dirichlet.iter().filter(|b| &b.group == n) {
+                for &(c, v) in &b.comps {
+                    consider(c, v);
+                }
+            }
+        }
+        _ => force.iter().enumerate().for_each(|(c, &v)| consider(c, v)),
+    }
+    best.0
+}
+
+/// The total force of an applied load group at factor 1 (zero for a
+/// Dirichlet group). Collective.
+fn applied_force<C: Communicator>(
+    world: &C,
+    local: &LocalMesh,
+    s: &Settings,
+    problem: &Problem,
+    g: &LoadGroup,
+) -> Result<Vec<f64>, Error> {
+    let d = local.dim;
+    let mut only = s.clone();
+    only.traction
+        .retain(|t| matches!(g, LoadGroup::Traction(n) if *n == t.group));
+    only.pressure
+        .retain(|p| matches!(g, LoadGroup::Pressure(n) if *n == p.group));
+    if *g != LoadGroup::Body {
+        only.body_force = None;
+    }
+    let f = fem::loads::external_load(local, &only, &problem.lumped_mass)?;
+    let mut total = vec![0.0; d];
+    for (i, v) in f.iter().enumerate() {
+        total[i % d] += v;
+    }
+    Ok(allreduce_sum_vec(world, &total))
+}
+
+/// The measures of a step from the gathered rows (rank 0): contact area,
+/// extent from `center` (orthogonal to `n` where given), peak pressure,
+/// and the node counts.
+fn measures(rows: &[ContactRow], d: usize, center: &[f64], n: Option<&[f64]>, row: &mut StepRow) {
+    for r in rows.iter().filter(|r| r.status != 0) {
+        row.contact_nodes += 1;
+        match r.status {
+            2 => row.stick += 1,
+            3 => row.slip += 1,
+            _ => {}
+        }
+        row.contact_area += r.weight;
+        row.peak_pressure = row.peak_pressure.max(r.lambda_n);
+        let mut v: Vec<f64> = (0..d).map(|c| r.x[c] - center[c]).collect();
+        if let Some(n) = n {
+            let along: f64 = v.iter().zip(n).map(|(a, b)| a * b).sum();
+            v.iter_mut().zip(n).for_each(|(a, b)| *a -= along * b);
+        }
+        let dist = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+        row.contact_extent = row.contact_extent.max(dist);
+    }
+}
+
+impl<C: Communicator> ContactProblem<'_, C> {
+    /// Every step of the history; returns the last step's solution (the
+    /// first that failed, if one did, and the steps before it are kept).
+    pub(super) fn solve_history(
+        &mut self,
+        local: &LocalMesh,
+        problem: &mut Problem,
+        restraint: &Restraint,
+    ) -> Result<Solution, Error> {
+        let _guard = self.stages.iterations.push()?;
+        let t_all = Instant::now();
+        let h = self.settings.history.clone().expect("a load history");
+        let curve = Curve::new(self.world, local, &self.settings, problem)?;
+        let n = h.factors.len();
+        let friction = self.settings.friction != Friction::None;
+        let mut last: Option<Solution> = None;
+        for (k, factors) in h.factors.iter().enumerate() {
+            let t = Instant::now();
+            progress::phase(false, || {
+                format!(
+                    "load step {}/{n} ({} {})",
+                    k + 1,
+                    h.source,
+                    fmt_factors(factors)
+                )
+            });
+            problem.apply_load(factors)?;
+            let sol = match last.take() {
+                None => {
+                    let (state, solved) = outcome::solve(
+                        self.world,
+                        local,
+                        &self.settings,
+                        problem,
+                        restraint,
+                        &self.events,
+                    )?;
+                    Solution { state, solved }
+                }
+                Some(mut prev) => {
+                    if friction {
+                        // Quasi-static: this step's slip from where the
+                        // last one left the surface.
+                        prev.state.surface.slip_origin = prev.state.surface.ut.clone();
+                    }
+                    let s_prev: Vec<f64> = prev
+                        .state
+                        .surface
+                        .lambda_n
+                        .iter()
+                        .map(|l| self.settings.friction_coefficient * l.abs())
+                        .collect();
+                    let solved = outcome::solve_step(
+                        self.world,
+                        local,
+                        &self.settings,
+                        problem,
+                        restraint,
+                        &self.events,
+                        &mut prev.state,
+                        &s_prev,
+                    )?;
+                    Solution {
+                        state: prev.state,
+                        solved,
+                    }
+                }
+            };
+            let row = self.step_row(local, problem, restraint, &sol, &curve, &h, k, t)?;
+            let stop = !row.converged;
+            self.steps.push(row);
+            last = Some(sol);
+            if stop {
+                break;
+            }
+        }
+        self.curve_label = curve.label.clone();
+        self.times.iterations = t_all.elapsed().as_secs_f64();
+        Ok(last.expect("at least one step"))
+    }
+
+    /// The row of step `k` (and its ParaView file).
+    #[allow(clippy::too_many_arguments)]
+    fn step_row(
+        &mut self,
+        local: &LocalMesh,
+        problem: &Problem,
+        restraint: &Restraint,
+        sol: &Solution,
+        curve: &Curve,
+        h: &LoadHistory,
+        k: usize,
+        t: Instant,
+    ) -> Result<StepRow, Error> {
+        let d = local.dim;
+        self.muted = true;
+        let checked = self.check(local, problem, restraint, sol);
+        self.muted = false;
+        let checked = checked?;
+        let s = &self.settings;
+        let mut row = StepRow {
+            step: k + 1,
+            factors: h.factors[k].clone(),
+            contact_force: checked.forces.contact.clone(),
+            reactions: checked.forces.reactions.clone(),
+            iterations: sol.solved.iterations,
+            converged: sol.solved.converged && checked.singular.is_none(),
+            ..Default::default()
+        };
+        row.curve = curve.point(
+            self.world,
+            h,
+            &h.factors[k],
+            d,
+            &checked.u_local,
+            &checked.forces.reactions,
+        );
+        if self.root {
+            let contact = s.contact.as_ref().expect("a contact surface");
+            let center = s
+                .contact_center
+                .clone()
+                .unwrap_or_else(|| contact.obstacle.anchor().to_vec());
+            measures(
+                &checked.rows,
+                d,
+                &center,
+                Some(&contact.direction),
+                &mut row,
+            );
+        }
+        if let Some(path) = &s.vtk {
+            let rows = report::broadcast_rows(self.world, &checked.rows);
+            let step = step_path(path, k + 1);
+            let written = files::write_vtk(self.world, &step, s, local, &checked.u_local, &rows);
+            files::collective(self.world, written)?;
+        }
+        row.time = t.elapsed().as_secs_f64();
+        Ok(row)
+    }
+}
+
+fn fmt_factors(f: &[f64]) -> String {
+    f.iter()
+        .map(|x| format!("{x:.4}"))
+        .collect::<Vec<_>>()
+        .join(",")
+}
