@@ -112,9 +112,6 @@ struct ContactProblem<'w, C: Communicator> {
     /// A load history's rows, one per step solved, and its curve's name.
     steps: Vec<report::history::StepRow>,
     curve_label: String,
-    /// While the steps of a history are checked: their warnings are left
-    /// to the check of the last step.
-    muted: bool,
 }
 
 /// An r given by `-ubr_r` more than this factor away from the trial r0
@@ -174,7 +171,6 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             outputs_reached: false,
             steps: Vec::new(),
             curve_label: String::new(),
-            muted: false,
         })
     }
 
@@ -334,7 +330,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     /// Prints a warning once (rank 0) and keeps it for the report.
     fn warn(&mut self, message: String) {
         // (The steps of a load history check each answer: once is enough.)
-        if self.muted || self.warnings.contains(&message) {
+        if self.warnings.contains(&message) {
             return;
         }
         if self.root {
