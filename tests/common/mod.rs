@@ -371,6 +371,9 @@ pub struct Report {
     pub criterion: f64,
     #[serde(deserialize_with = "number")]
     pub contact_active: f64,
+    /// `"fixed"` or `"closest"` (absent from older reports).
+    #[serde(default)]
+    pub contact_normal: String,
     #[serde(deserialize_with = "number")]
     pub stick_nodes: f64,
     #[serde(deserialize_with = "number")]
