@@ -32,11 +32,7 @@ fn mesh(name: &str, dim: usize, geo: &str) -> (std::path::PathBuf, String) {
 
 /// The displacement `u_n n + u_t` of a row (its global components).
 fn displacement(r: &Row) -> [f64; 3] {
-    let mut u = [0.0; 3];
-    for c in 0..3 {
-        u[c] = r.un * r.normal[c] + r.ut[c];
-    }
-    u
+    std::array::from_fn(|c| r.un * r.normal[c] + r.ut[c])
 }
 
 /// The largest radial penetration `R - |x + u - c|` (2D, the disc of
@@ -53,13 +49,12 @@ fn radial_penetration(rows: &[Row], c: [f64; 2], radius: f64) -> f64 {
 
 /// The force the obstacle exerts on the body, `-sum w (lambda_n n + lambda_t)`.
 fn contact_force(rows: &[Row]) -> [f64; 3] {
-    let mut f = [0.0; 3];
-    for r in rows {
-        for c in 0..3 {
-            f[c] -= r.weight * (r.lambda_n * r.normal[c] + r.lambda_t[c]);
-        }
-    }
-    f
+    std::array::from_fn(|c| {
+        -rows
+            .iter()
+            .map(|r| r.weight * (r.lambda_n * r.normal[c] + r.lambda_t[c]))
+            .sum::<f64>()
+    })
 }
 
 /// The largest difference of lambda_n (and lambda_t) between two runs' rows,
