@@ -425,7 +425,8 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                 "option -contact_surface is required (a contact problem needs a candidate surface)",
             );
         };
-        let cs = ContactSet::build(local, contact)?;
+        let mut cs = ContactSet::build(local, contact)?;
+        cs.settle(self.world)?;
         if allreduce_count(self.world, cs.len()) == 0 {
             return bad(format!(
                 "option -contact_surface: surface '{}' has no candidate node facing the obstacle along the contact direction",
@@ -632,7 +633,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         if self.root {
             let d = local.dim;
             let hertz = s.reference.as_ref().map(|r| {
-                report::compare_hertz(&checked.rows, d, &problem.contact.n, s.e_star(d), r)
+                report::compare_hertz(&checked.rows, d, &problem.contact.direction, s.e_star(d), r)
             });
             let results = Results {
                 settings: s,

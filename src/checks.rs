@@ -143,15 +143,16 @@ fn equilibrium(p: &Problem, st: &UbrState) -> Result<(f64, f64), Error> {
                 for i in 0..cs.len() {
                     let base = cs.node[i] * d;
                     let w = cs.w[i];
+                    let n = cs.n(i);
                     for c in 0..d {
                         // remove r B^T W B u, add B^T W lambda
                         let (bu, lam) = if p.tangential {
                             (
-                                st.surface.un[i] * cs.n[c] + st.surface.ut[i * d + c],
-                                st.surface.stress_n[i] * cs.n[c] + st.surface.stress_t[i * d + c],
+                                st.surface.un[i] * n[c] + st.surface.ut[i * d + c],
+                                st.surface.stress_n[i] * n[c] + st.surface.stress_t[i * d + c],
                             )
                         } else {
-                            (st.surface.un[i] * cs.n[c], st.surface.stress_n[i] * cs.n[c])
+                            (st.surface.un[i] * n[c], st.surface.stress_n[i] * n[c])
                         };
                         a[base + c] += w * (lam - r * bu);
                     }
@@ -398,7 +399,7 @@ pub fn forces<C: Communicator>(
     for i in 0..cs.len() {
         let w = cs.w[i];
         for c in 0..d {
-            let mut lam = st.surface.stress_n[i] * cs.n[c];
+            let mut lam = st.surface.stress_n[i] * cs.n(i)[c];
             if p.tangential {
                 lam += st.surface.stress_t[i * d + c];
             }
@@ -446,11 +447,11 @@ pub fn setup_warnings<C: Communicator>(
         fixed[i] = true;
     }
     let mut out = Vec::new();
-    // Candidates whose prescribed components have a part along n.
-    let along_n = |v: usize| {
+    // Candidates whose prescribed components have a part along n_i.
+    let along_n = |i: usize| {
         (0..d)
-            .filter(|&c| fixed[v * d + c])
-            .map(|c| cs.n[c].powi(2))
+            .filter(|&c| fixed[cs.node[i] * d + c])
+            .map(|c| cs.n(i)[c].powi(2))
             .sum::<f64>()
             > 1e-6
     };
@@ -460,10 +461,8 @@ pub fn setup_warnings<C: Communicator>(
             continue;
         };
         let nodes: std::collections::HashSet<usize> = group.conn.nodes().iter().copied().collect();
-        counts[g] = cs
-            .node
-            .iter()
-            .filter(|&&v| nodes.contains(&v) && along_n(v))
+        counts[g] = (0..cs.len())
+            .filter(|&i| nodes.contains(&cs.node[i]) && along_n(i))
             .count() as f64;
     }
     counts.push(cs.len() as f64);
@@ -570,7 +569,8 @@ pub fn result_warnings<C: Communicator>(
         out.extend(tresca_on_open(world, cs, st));
     }
     let in_contact = allreduce_count(world, st.surface.in_contact.iter().filter(|&&c| c).count());
-    if let (0, Some(contact)) = (in_contact, &settings.contact) {
+    // (Along the one normal that the candidates share.)
+    if let (0, Some(contact)) = (in_contact, settings.contact.as_ref().filter(|_| cs.uniform)) {
         // The body's centre (mean of its nodes) against the obstacle.
         let mut sums = vec![0.0; d + 1];
         for v in 0..local.owned_count {

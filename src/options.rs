@@ -18,7 +18,7 @@ pub mod unused;
 
 use crate::error::{bad, Error};
 use crate::petsc;
-pub use choices::{Algorithm, LinearBackend, Obstacle, StopRule};
+pub use choices::{Algorithm, LinearBackend, NormalMode, Obstacle, StopRule};
 pub use declared::print_help;
 use declared::*;
 use mpi::traits::*;
@@ -92,7 +92,10 @@ pub enum TrescaBound {
 pub struct ContactSettings {
     /// The physical groups of Gamma_c (one or more, one obstacle).
     pub surfaces: Vec<String>,
+    /// `-contact_direction` (empty when not given, with closest normals).
     pub direction: Vec<f64>,
+    /// `-contact_normal`, `auto` resolved.
+    pub normal: NormalMode,
     pub obstacle: Obstacle,
 }
 
@@ -359,76 +362,128 @@ fn loads() -> Result<
     Ok((dirichlet, traction, pressure, body))
 }
 
-/// The contact surface, direction and obstacle (None without a surface);
-/// a direction within [`UNIT_TOLERANCE`] of unit length is normalised,
-/// with a note.
+/// The contact surface, direction, normal mode and obstacle (None without
+/// a surface); a direction within [`UNIT_TOLERANCE`] of unit length is
+/// normalised, with a note.
 fn contact(notes: &mut Vec<String>) -> Result<Option<ContactSettings>, Error> {
     let Some(surfaces) = CONTACT_SURFACE.words()? else {
         return Ok(None);
     };
-    let Some(mut direction) = CONTACT_DIRECTION.vector()? else {
-        return bad("option -contact_direction is required with -contact_surface");
-    };
-    let norm = direction.iter().map(|v| v * v).sum::<f64>().sqrt();
-    if (norm - 1.0).abs() > UNIT_TOLERANCE {
-        return bad(format!(
-            "option -contact_direction: ({}) is not a unit vector (norm {norm})",
-            joined(&direction)
-        ));
-    }
-    // Within 1e-6 of unit length (digits of a typed unit vector) it is used
-    // as given; up to UNIT_TOLERANCE it is normalised, and the user told.
-    if (norm - 1.0).abs() > 1e-6 {
-        let given = joined(&direction);
-        direction.iter_mut().for_each(|v| *v /= norm);
-        notes.push(format!(
-            "note: -contact_direction {given} (norm {norm}) normalised to ({})",
-            direction
-                .iter()
-                .map(|v| format!("{v:.12}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ));
-    }
     let kind = match OBSTACLE.word_or_required()? {
         Some(k) => k,
         None => {
             return bad(
-                "option -obstacle (plane, ball or halfball) is required with -contact_surface",
+                "option -obstacle (plane, ball, halfball or cylinder) is required with -contact_surface",
             )
         }
     };
-    let obstacle = match kind {
-        "plane" => {
-            let Some(point) = OBSTACLE_POINT.vector()? else {
-                return bad("option -obstacle_point is required with -obstacle plane");
-            };
-            Obstacle::Plane { point }
-        }
-        _ => {
-            let Some(center) = OBSTACLE_CENTER.vector()? else {
-                return bad(format!(
-                    "option -obstacle_center is required with -obstacle {kind}"
-                ));
-            };
-            let Some(radius) = OBSTACLE_RADIUS.real()? else {
-                return bad(format!(
-                    "option -obstacle_radius is required with -obstacle {kind}"
-                ));
-            };
-            let radius = positive(OBSTACLE_RADIUS.name, radius)?;
-            if kind == "ball" {
-                Obstacle::Ball { center, radius }
-            } else {
-                Obstacle::HalfBall { center, radius }
-            }
-        }
+    let normal = match (CONTACT_NORMAL.get()?, kind) {
+        ("fixed", _) | ("auto", "plane") => NormalMode::Fixed,
+        _ => NormalMode::Closest,
     };
+    let direction = match CONTACT_DIRECTION.vector()? {
+        Some(v) => unit(CONTACT_DIRECTION.name, v, notes)?,
+        None if normal == NormalMode::Fixed || kind == "halfball" || kind == "plane" => {
+            return bad(format!(
+                "option -contact_direction is required with -contact_surface (-obstacle {kind}, -contact_normal {})",
+                normal.as_str()
+            ))
+        }
+        None => Vec::new(),
+    };
+    let obstacle = obstacle(kind, notes)?;
+    if normal == NormalMode::Closest && !direction.is_empty() && matches!(kind, "ball" | "cylinder")
+    {
+        notes.push(
+            "note: -contact_direction does not set the gaps with closest normals (-contact_normal); it orients the Hertz comparison and the plots only".into(),
+        );
+    }
     Ok(Some(ContactSettings {
         surfaces,
         direction,
+        normal,
         obstacle,
     }))
+}
+
+/// `v` as a unit vector: within 1e-6 of unit length (digits of a typed
+/// unit vector) as given, up to [`UNIT_TOLERANCE`] normalised with a note,
+/// else bad input.
+fn unit(name: &str, mut v: Vec<f64>, notes: &mut Vec<String>) -> Result<Vec<f64>, Error> {
+    let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if (norm - 1.0).abs() > UNIT_TOLERANCE {
+        return bad(format!(
+            "option {name}: ({}) is not a unit vector (norm {norm})",
+            joined(&v)
+        ));
+    }
+    if (norm - 1.0).abs() > 1e-6 {
+        let given = joined(&v);
+        v.iter_mut().for_each(|x| *x /= norm);
+        notes.push(format!(
+            "note: {name} {given} (norm {norm}) normalised to ({})",
+            v.iter()
+                .map(|x| format!("{x:.12}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    Ok(v)
+}
+
+/// The obstacle of kind `kind` from its options (the dimensions are
+/// checked against the mesh's by [`crate::contact::ContactSet::build`]).
+fn obstacle(kind: &str, notes: &mut Vec<String>) -> Result<Obstacle, Error> {
+    if kind == "plane" {
+        let Some(point) = OBSTACLE_POINT.vector()? else {
+            return bad("option -obstacle_point is required with -obstacle plane");
+        };
+        return Ok(Obstacle::Plane { point });
+    }
+    let Some(center) = OBSTACLE_CENTER.vector()? else {
+        return bad(format!(
+            "option -obstacle_center is required with -obstacle {kind}"
+        ));
+    };
+    let Some(radius) = OBSTACLE_RADIUS.real()? else {
+        return bad(format!(
+            "option -obstacle_radius is required with -obstacle {kind}"
+        ));
+    };
+    let radius = positive(OBSTACLE_RADIUS.name, radius)?;
+    let axis = OBSTACLE_AXIS.vector()?;
+    if axis.is_some() && kind != "cylinder" {
+        return bad(format!(
+            "option -obstacle_axis: only a cylinder has an axis (-obstacle {kind})"
+        ));
+    }
+    Ok(match kind {
+        "ball" => Obstacle::Ball { center, radius },
+        "halfball" => Obstacle::HalfBall { center, radius },
+        _ => {
+            let axis = match axis {
+                None if center.len() == 3 => {
+                    return bad("option -obstacle_axis is required with a 3D -obstacle cylinder")
+                }
+                None => Vec::new(),
+                Some(_) if center.len() != 3 => {
+                    return bad("option -obstacle_axis: a 2D cylinder is the disc, it has no axis")
+                }
+                Some(a) if a.len() != 3 => {
+                    return bad(format!(
+                        "option -obstacle_axis: {} components given, the cylinder is 3D",
+                        a.len()
+                    ))
+                }
+                Some(a) => unit(OBSTACLE_AXIS.name, a, notes)?,
+            };
+            Obstacle::Cylinder {
+                center,
+                axis,
+                radius,
+            }
+        }
+    })
 }
 
 impl Opt<Choice> {

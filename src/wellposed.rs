@@ -332,8 +332,8 @@ pub fn check<C: Communicator>(
         }
         add(&mut g[b * per..b * per + k * k], &row[..k]);
     }
-    let n = &cs.n;
-    for &v in &cs.node {
+    for (i, &v) in cs.node.iter().enumerate() {
+        let n = cs.n(i);
         let b = bodies.node_body[v];
         let basis = bodies.basis(b, mesh.x(v));
         let gc = &mut g[b * per + k * k..b * per + 2 * k * k];
@@ -539,12 +539,12 @@ pub fn check_loads<C: Communicator>(
     }
     let b = allreduce_sum_vec(world, &b);
     let (b, resultant) = b.split_at(k);
-    let n = &cs.n;
-    let rays = cone_rays(n, d, coulomb);
-    // The columns of the owned candidates, gathered on rank 0.
-    let mut cols: Vec<f64> = Vec::with_capacity(cs.len() * k * rays.len());
+    // The columns of the owned candidates (the rays of each one's cone
+    // around its own normal), gathered on rank 0.
+    let mut cols: Vec<f64> = Vec::new();
     for (i, &v) in cs.node.iter().enumerate() {
         let x = mesh.x(v);
+        let rays = cone_rays(cs.n(i), d, coulomb);
         for ray in &rays {
             for m in modes {
                 let a = if bodies.node_body[v] == m.body {
@@ -577,7 +577,12 @@ pub fn check_loads<C: Communicator>(
         return Ok(());
     }
     Err(Error::IllPosed(ill_posed(
-        restraint, resultant, n, d, coulomb, verdict[1],
+        restraint,
+        resultant,
+        cs.common_normal(),
+        d,
+        coulomb,
+        verdict[1],
     )))
 }
 
@@ -615,7 +620,7 @@ fn cone_rays(n: &[f64], d: usize, coulomb: Option<f64>) -> Vec<[f64; 3]> {
 fn ill_posed(
     restraint: &Restraint,
     resultant: &[f64],
-    n: &[f64],
+    n: Option<&[f64]>,
     d: usize,
     coulomb: Option<f64>,
     residual: f64,
@@ -626,11 +631,14 @@ fn ill_posed(
     let hint = "check the signs of the loads, the contact direction (-contact_direction points from the body toward the obstacle) and the obstacle's position";
     // The resultant speaks plainly where the contact alone holds every
     // translation of a single body: N = F.n must push, |F_t| <= nu_f N.
-    let translations_free = bodies.len() == 1
+    // (With normals of their own, the candidates have no one direction.)
+    let translations_free = n.is_some()
+        && bodies.len() == 1
         && (0..d).all(|c| {
             let p2: f64 = modes.iter().map(|m| m.coef[c] * m.coef[c]).sum();
             p2 > 1.0 - 1e-8
         });
+    let n = n.unwrap_or(&[0.0; 3][..d]);
     let f_n: f64 = (0..d).map(|c| resultant[c] * n[c]).sum();
     let f_t = (0..d)
         .map(|c| (resultant[c] - f_n * n[c]).powi(2))

@@ -137,6 +137,8 @@ fn contact_surface_without_candidates() {
     expect_bad(
         "nocand",
         &hertz(&[
+            "-contact_normal",
+            "fixed",
             "-obstacle",
             "ball",
             "-obstacle_center",

@@ -538,6 +538,8 @@ fn single_contact_node() {
         &hertz(
             "options/hertz-paper",
             &[
+                "-contact_normal",
+                "fixed",
                 "-obstacle",
                 "ball",
                 "-obstacle_center",
@@ -555,6 +557,8 @@ fn single_contact_node() {
         &block(
             "options/block3d-coulomb-paper",
             &[
+                "-contact_normal",
+                "fixed",
                 "-obstacle",
                 "ball",
                 "-obstacle_center",

@@ -272,6 +272,8 @@ fn friction_checks_are_one_and_zero_on_a_coulomb_block() {
         "1,-5",
         "-obstacle_radius",
         "5",
+        "-contact_normal",
+        "fixed",
     ];
     for friction in [
         &["-friction", "coulomb", "-friction_coefficient", "0.6"][..],
@@ -726,6 +728,8 @@ fn contact_plots_for_asymmetric_and_3d_contact() {
                 "0.6,-5",
                 "-obstacle_radius",
                 "5",
+                "-contact_normal",
+                "fixed",
                 "-friction",
                 "coulomb",
                 "-friction_coefficient",

@@ -54,6 +54,8 @@ fn block_on_ball<'a>(extra: &[&'a str]) -> Vec<&'a str> {
         "-0.1,0.2,-1",
         "-obstacle_radius",
         "0.5",
+        "-contact_normal",
+        "fixed",
     ];
     v.extend_from_slice(extra);
     v

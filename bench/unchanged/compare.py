@@ -21,7 +21,11 @@ def main(a, b, tol=1e-12):
             print(f"{fa.name}: missing in {b}"); bad += 1; continue
         if fa.read_bytes() == fb.read_bytes():
             same += 1; continue
+        if [r[:len(load(fa)[0])] for r in load(fb)] == load(fa):
+            same += 1; continue
         ra, rb = load(fa), load(fb)
+        # Columns appended since (n_x,n_y,n_z) are left out: the old ones are compared.
+        rb = [r[:len(ra[0])] for r in rb]
         if len(ra) != len(rb) or ra[0] != rb[0]:
             print(f"{fa.name}: shape or header differs"); bad += 1; continue
         worst = 0.0

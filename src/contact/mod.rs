@@ -1,12 +1,14 @@
 //! The contact set: candidate nodes of Gamma_c owned by this rank, their
-//! nodal weights `w_i`, gaps `g_i` along the fixed direction `n`, and the
+//! nodal weights `w_i`, unit normals `n_i` (the fixed direction n, or from
+//! the closest point on the obstacle) and gaps `g_i` along them, and the
 //! pointwise projections of the paper, (4.15) and (5.5).
 
+use crate::comm::allreduce_max;
 use crate::error::{bad, Error};
 use crate::fem::element::facet_weights;
 use crate::mesh::distribute::LocalMesh;
-use crate::options::ContactSettings;
-pub use obstacle::{gap, Obstacle};
+use crate::options::{ContactSettings, NormalMode};
+pub use obstacle::{closest, gap, Obstacle};
 
 pub mod hertz;
 pub mod obstacle;
@@ -16,18 +18,27 @@ pub mod surface;
 #[derive(Clone, Debug, Default)]
 pub struct ContactSet {
     pub dim: usize,
-    /// Unit contact direction n.
-    pub n: Vec<f64>,
+    /// The fixed contact direction n (`-contact_direction`; empty when not
+    /// given, with closest normals).
+    pub direction: Vec<f64>,
+    /// Whether every candidate's normal is `direction` (fixed normals, or
+    /// closest normals on a plane): the same on every rank.
+    pub uniform: bool,
+    /// Unit normal n_i of each candidate, `dim` components each.
+    pub normal: Vec<f64>,
     /// Local node index (an owned node) of each candidate.
     pub node: Vec<usize>,
     /// Nodal weight w_i (trapezoidal quadrature on Gamma_c).
     pub w: Vec<f64>,
-    /// Gap g_i along n (negative: initial penetration).
+    /// Gap g_i along n_i (negative: initial penetration).
     pub g: Vec<f64>,
     /// Each candidate's contact surface: its index in
     /// `ContactSettings::surfaces`, the first group with a facet at the node
     /// (a node where two groups meet counts in the first).
     pub group: Vec<usize>,
+    /// A surface node on a ball's centre or a cylinder's axis (closest
+    /// normals: no normal there), by its tag; the caller reports it.
+    pub on_center: Option<u64>,
 }
 
 impl ContactSet {
@@ -36,6 +47,49 @@ impl ContactSet {
     }
     pub fn is_empty(&self) -> bool {
         self.node.is_empty()
+    }
+
+    /// The unit normal n_i of candidate i.
+    #[inline]
+    pub fn n(&self, i: usize) -> &[f64] {
+        &self.normal[i * self.dim..(i + 1) * self.dim]
+    }
+
+    /// The one normal of every candidate, when they share it.
+    pub fn common_normal(&self) -> Option<&[f64]> {
+        self.uniform.then_some(&self.direction[..])
+    }
+
+    /// The checks and the choice that need every rank, after [`Self::build`]:
+    /// a surface node on the obstacle's centre (or axis) is bad input; with
+    /// closest normals and no `-contact_direction`, `direction` (the axis
+    /// of the Hertz comparison and of the plots) becomes the normal of the
+    /// candidate with the smallest gap.
+    pub fn settle<C: mpi::traits::Communicator>(&mut self, world: &C) -> Result<(), Error> {
+        let at = allreduce_max(world, self.on_center.map_or(-1.0, |t| t as f64));
+        if at >= 0.0 {
+            return bad(format!(
+                "option -contact_normal: surface node {} lies on the obstacle's centre (or axis), where no normal is the closest; use -contact_normal fixed or move the obstacle",
+                at as u64
+            ));
+        }
+        if self.direction.is_empty() {
+            let d = self.dim;
+            let mut mine = [f64::INFINITY, 0.0, 0.0, 0.0];
+            for i in 0..self.len() {
+                if self.g[i] < mine[0] {
+                    mine[0] = self.g[i];
+                    mine[1..1 + d].copy_from_slice(self.n(i));
+                }
+            }
+            let all = crate::comm::Layout::new(world, 4).all_gather(world, &mine[..]);
+            let best = all
+                .chunks(4)
+                .min_by(|a, b| a[0].total_cmp(&b[0]))
+                .map(|c| c[1..1 + d].to_vec());
+            self.direction = best.unwrap_or_else(|| vec![0.0; d]);
+        }
+        Ok(())
     }
 
     /// Builds the owned candidates of the surfaces `settings.surfaces` (a
@@ -52,7 +106,7 @@ impl ContactSet {
                 "a contact surface",
             )?);
         }
-        if settings.direction.len() != d {
+        if !settings.direction.is_empty() && settings.direction.len() != d {
             return bad(format!(
                 "option -contact_direction: {} components given, the mesh is {}D",
                 settings.direction.len(),
@@ -67,7 +121,9 @@ impl ContactSet {
                     d
                 ))
             }
-            Obstacle::Ball { center, .. } | Obstacle::HalfBall { center, .. }
+            Obstacle::Ball { center, .. }
+            | Obstacle::HalfBall { center, .. }
+            | Obstacle::Cylinder { center, .. }
                 if center.len() != d =>
             {
                 return bad(format!(
@@ -77,6 +133,11 @@ impl ContactSet {
                 ))
             }
             _ => {}
+        }
+        if let Obstacle::Cylinder { axis, .. } = &settings.obstacle {
+            if d == 2 && !axis.is_empty() {
+                return bad("option -obstacle_axis: a 2D cylinder is the disc, it has no axis");
+            }
         }
         let n = &settings.direction;
         // Weights of every owned node of the surface.
@@ -107,19 +168,31 @@ impl ContactSet {
                 }
             }
         }
+        let fixed = settings.normal == NormalMode::Fixed;
         let mut set = ContactSet {
             dim: d,
-            n: n.clone(),
+            direction: n.clone(),
+            uniform: fixed || matches!(settings.obstacle, Obstacle::Plane { .. }),
             ..Default::default()
         };
         for v in 0..mesh.owned_count {
             if !on_surface[v] {
                 continue;
             }
-            if let Some(g) = gap(mesh.x(v), n, &settings.obstacle) {
+            let found = if fixed {
+                gap(mesh.x(v), n, &settings.obstacle).map(|g| (g, n.clone()))
+            } else {
+                let found = closest(mesh.x(v), n, &settings.obstacle);
+                if found.is_none() {
+                    set.on_center.get_or_insert(mesh.node_tag[v]);
+                }
+                found
+            };
+            if let Some((g, normal)) = found {
                 set.node.push(v);
                 set.w.push(weight[v]);
                 set.g.push(g);
+                set.normal.extend(normal);
                 set.group.push(group_of[v]);
             }
         }

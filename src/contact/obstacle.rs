@@ -1,5 +1,6 @@
-//! The rigid obstacle and the gap along the contact direction n
-//! (docs/DESIGN.md, "Discretization": the gap).
+//! The rigid obstacle, the gap along the contact direction n, and the gap
+//! and normal from a node's closest point (docs/DESIGN.md,
+//! "Discretization": the gap).
 
 pub use crate::options::Obstacle;
 
@@ -8,7 +9,9 @@ impl Obstacle {
     pub fn anchor(&self) -> &[f64] {
         match self {
             Obstacle::Plane { point } => point,
-            Obstacle::Ball { center, .. } | Obstacle::HalfBall { center, .. } => center,
+            Obstacle::Ball { center, .. }
+            | Obstacle::HalfBall { center, .. }
+            | Obstacle::Cylinder { center, .. } => center,
         }
     }
 }
@@ -26,6 +29,65 @@ pub fn gap(x: &[f64], n: &[f64], obstacle: &Obstacle) -> Option<f64> {
         Obstacle::Ball { center, radius } => ball_entry(x, n, center, *radius),
         Obstacle::HalfBall { center, radius } => {
             Some(ball_entry(x, n, center, *radius).unwrap_or_else(|| along(center)))
+        }
+        Obstacle::Cylinder {
+            center,
+            axis,
+            radius,
+        } => {
+            // The line and the centre seen in the plane orthogonal to the
+            // axis, where the cylinder is a disc.
+            let (xp, np) = (off_axis(x, axis), off_axis(n, axis));
+            let len = np.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if len < 1e-12 {
+                return None;
+            }
+            let np: Vec<f64> = np.iter().map(|v| v / len).collect();
+            ball_entry(&xp, &np, &off_axis(center, axis), *radius).map(|t| t / len)
+        }
+    }
+}
+
+/// `v` without its component along the unit `axis` (empty axis: `v`).
+fn off_axis(v: &[f64], axis: &[f64]) -> Vec<f64> {
+    let along: f64 = v.iter().zip(axis).map(|(a, b)| a * b).sum();
+    let mut out = v.to_vec();
+    for (o, a) in out.iter_mut().zip(axis) {
+        *o -= along * a;
+    }
+    out
+}
+
+/// The signed distance from `x` to the obstacle along the direction to its
+/// closest point, and the unit normal from `x` toward that point
+/// (`direction`: the floor's normal of a half-ball, the plane's n). `None`
+/// for a node on a ball's centre or a cylinder's axis, where no direction
+/// is the closest.
+pub fn closest(x: &[f64], direction: &[f64], obstacle: &Obstacle) -> Option<(f64, Vec<f64>)> {
+    let radial = |center: &[f64], axis: &[f64], radius: f64| {
+        let dc: Vec<f64> = x.iter().zip(center).map(|(x, c)| c - x).collect();
+        let dc = off_axis(&dc, axis);
+        let dist = dc.iter().map(|v| v * v).sum::<f64>().sqrt();
+        (dist > 0.0).then(|| (dist - radius, dc.iter().map(|v| v / dist).collect()))
+    };
+    match obstacle {
+        Obstacle::Plane { .. } => Some((gap(x, direction, obstacle)?, direction.to_vec())),
+        Obstacle::Ball { center, radius } => radial(center, &[], *radius),
+        Obstacle::Cylinder {
+            center,
+            axis,
+            radius,
+        } => radial(center, axis, *radius),
+        Obstacle::HalfBall { center, radius } => {
+            // The solid is the ball and the half-space beyond the floor:
+            // the nearer of the two (the ball on a tie).
+            let floor: f64 = (0..x.len())
+                .map(|c| (center[c] - x[c]) * direction[c])
+                .sum();
+            match radial(center, &[], *radius) {
+                Some((g, n)) if g <= floor => Some((g, n)),
+                _ => Some((floor, direction.to_vec())),
+            }
         }
     }
 }
@@ -66,6 +128,41 @@ mod tests {
             point: vec![0.0, 0.0],
         };
         assert!((gap(&[3.0, 0.25], &[0.0, -1.0], &plane).unwrap() - 0.25).abs() < 1e-15);
+    }
+
+    #[test]
+    fn closest_gaps_and_normals() {
+        let ball = Obstacle::Ball {
+            center: vec![0.0, -1.0],
+            radius: 0.5,
+        };
+        // Beside the ball: radial gap and normal.
+        let (g, n) = closest(&[1.0, -1.0], &[], &ball).unwrap();
+        assert!((g - 0.5).abs() < 1e-15 && (n[0] + 1.0).abs() < 1e-15 && n[1] == 0.0);
+        assert!(closest(&[0.0, -1.0], &[], &ball).is_none());
+        // A 3D cylinder along z through (0, 0, 0), radius 1: radial to the axis.
+        let cyl = Obstacle::Cylinder {
+            center: vec![0.0, 0.0, 0.0],
+            axis: vec![0.0, 0.0, 1.0],
+            radius: 1.0,
+        };
+        let (g, n) = closest(&[0.0, 3.0, 7.0], &[], &cyl).unwrap();
+        assert!((g - 2.0).abs() < 1e-15 && n == vec![0.0, -1.0, 0.0]);
+        // Fixed direction on the cylinder: the line along -y meets it at y = 1.
+        let g = gap(&[0.5, 3.0, 7.0], &[0.0, -1.0, 0.0], &cyl).unwrap();
+        assert!((g - (3.0 - 0.75f64.sqrt())).abs() < 1e-14);
+        // Along the axis the line never meets the surface.
+        assert!(gap(&[0.0, 3.0, 7.0], &[0.0, 0.0, -1.0], &cyl).is_none());
+        // Half-ball: the floor where it is nearer than the ball.
+        let hb = Obstacle::HalfBall {
+            center: vec![0.0, 0.0, -1.0],
+            radius: 0.5,
+        };
+        let down = [0.0, 0.0, -1.0];
+        let (g, n) = closest(&[2.0, 0.0, -0.5], &down, &hb).unwrap();
+        assert!((g - 0.5).abs() < 1e-15 && n == down.to_vec());
+        let (g, _) = closest(&[0.0, 0.0, -0.25], &down, &hb).unwrap();
+        assert!((g - 0.25).abs() < 1e-15);
     }
 
     #[test]

@@ -3,8 +3,9 @@
 //!
 //! Unknowns at the contact nodes are stored candidate by candidate: `u_C`
 //! has component c of candidate i at `i * dim + c`. `B u = (u_n, u_t)` with
-//! `u_n = u.n` and `u_t = u - u_n n` (2.1); `B^T W (v_n, v_t)` is the nodal
-//! force `w_i (v_n n + v_t)` (nodal quadrature of `(v, B u)_{Gamma_c}`),
+//! `u_n = u.n_i` and `u_t = u - u_n n_i` (2.1), n_i the candidate's normal;
+//! `B^T W (v_n, v_t)` is the nodal force `w_i (v_n n_i + v_t)` (nodal
+//! quadrature of `(v, B u)_{Gamma_c}`),
 //! zero on the components that carry a Dirichlet condition (their rows are
 //! eliminated from the linear system).
 
@@ -33,7 +34,7 @@ impl Surface<'_> {
     #[inline]
     pub fn normal(&self, uc: &[f64], i: usize) -> f64 {
         let d = self.dim;
-        let n = &self.cs.n;
+        let n = self.cs.n(i);
         (0..d).map(|c| uc[i * d + c] * n[c]).sum()
     }
 
@@ -41,8 +42,9 @@ impl Surface<'_> {
     #[inline]
     pub fn tangential_part(&self, uc: &[f64], i: usize, un: f64, out: &mut [f64]) {
         let d = self.dim;
+        let n = self.cs.n(i);
         for c in 0..d {
-            out[c] = uc[i * d + c] - un * self.cs.n[c];
+            out[c] = uc[i * d + c] - un * n[c];
         }
     }
 
@@ -55,8 +57,8 @@ impl Surface<'_> {
         out: &mut [f64],
     ) {
         let d = self.dim;
-        let n = &self.cs.n;
         for i in 0..self.len() {
+            let n = self.cs.n(i);
             let w = self.cs.w[i];
             let sn = w * vn(i);
             for c in 0..d {
@@ -85,7 +87,7 @@ impl Surface<'_> {
                 } else if self.tangential {
                     w * uc[i * d + c]
                 } else {
-                    w * un * self.cs.n[c]
+                    w * un * self.cs.n(i)[c]
                 };
             }
         }

@@ -506,7 +506,7 @@ impl LinearSolver {
             let nk = self.comps.len();
             let mut blocks = Vec::with_capacity(surface.len() * nk * nk);
             for (i, &w) in cs.w.iter().enumerate() {
-                let b = contact_block(d, &cs.n, w, surface.tangential);
+                let b = contact_block(d, cs.n(i), w, surface.tangential);
                 for &a in &self.comps {
                     for &c in &self.comps {
                         let keep = !surface.dirichlet[i * d + a] && !surface.dirichlet[i * d + c];
@@ -535,7 +535,7 @@ impl LinearSolver {
                     ((mesh_start + v) * d + c) as sys::PetscInt
                 });
             }
-            let vals = contact_block(d, &cs.n, delta * cs.w[i], surface.tangential);
+            let vals = contact_block(d, cs.n(i), delta * cs.w[i], surface.tangential);
             self.matrix.add_values(&idx, &idx, &vals)?;
             if let Some(op) = &self.operator {
                 // A node's block is a diagonal block, stored whole.

@@ -20,6 +20,33 @@ pub enum Obstacle {
         center: Vec<f64>,
         radius: f64,
     },
+    /// A rigid cylinder (`-obstacle cylinder`): a point `center` of its
+    /// axis, the unit `axis` (3D; empty in 2D, where it is the disc, the
+    /// ball) and its radius.
+    Cylinder {
+        center: Vec<f64>,
+        axis: Vec<f64>,
+        radius: f64,
+    },
+}
+
+/// How each candidate's gap and normal are found (`-contact_normal`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NormalMode {
+    /// The paper's fixed `-contact_direction` for every candidate.
+    Fixed,
+    /// From each candidate's closest point on the obstacle.
+    Closest,
+}
+
+impl NormalMode {
+    /// The option value, as the report writes it.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            NormalMode::Fixed => "fixed",
+            NormalMode::Closest => "closest",
+        }
+    }
 }
 
 /// Which stopping test (`-ubr_stop`).

@@ -247,11 +247,13 @@ opt!(GRAVITY: Given = "-gravity" "gx,gy[,gz]", Given("none"), "gravitational acc
 opt!(DENSITY: Given = "-density" "RHO", Given("required with -gravity"), "mass density (force per unit volume: density x gravity)");
 // Contact
 opt!(CONTACT_SURFACE: Given = "-contact_surface" "NAME[,NAME2...]", Given("required"), "physical group(s) of the candidate contact surface Gamma_c (one obstacle)");
-opt!(CONTACT_DIRECTION: Given = "-contact_direction" "nx,ny[,nz]", Given("required with a contact surface"), "unit contact direction n, toward the obstacle (a vector within 1e-3 of unit length is normalised)");
-opt!(OBSTACLE: Choice = "-obstacle" "plane|ball|halfball", Choice { default: "required with a contact surface", values: &["plane", "ball", "halfball"] }, "rigid obstacle; ball: candidates are the nodes whose line along n meets the ball; halfball: the half-ball standing on its flat face on a floor (the plane through the centre orthogonal to n), every surface node a candidate (the paper's 3D Gamma_c)");
+opt!(CONTACT_DIRECTION: Given = "-contact_direction" "nx,ny[,nz]", Given("required with fixed normals, a plane or a halfball"), "unit contact direction n, toward the obstacle (a vector within 1e-3 of unit length is normalised)");
+opt!(CONTACT_NORMAL: Choice = "-contact_normal" "auto|fixed|closest", Choice { default: "auto", values: &["auto", "fixed", "closest"] }, "each candidate's gap and normal: fixed, along -contact_direction (the paper's); closest, from its closest point on the obstacle (every surface node a candidate); auto: fixed for a plane, closest for a ball, halfball or cylinder");
+opt!(OBSTACLE: Choice = "-obstacle" "plane|ball|halfball|cylinder", Choice { default: "required with a contact surface", values: &["plane", "ball", "halfball", "cylinder"] }, "rigid obstacle; ball: with fixed normals the candidates are the nodes whose line along n meets the ball; halfball: the half-ball standing on its flat face on a floor (the plane through the centre orthogonal to n), every surface node a candidate (the paper's 3D Gamma_c); cylinder: around -obstacle_axis through -obstacle_center (2D: the disc, as ball)");
 opt!(OBSTACLE_POINT: Given = "-obstacle_point" "x,y[,z]", Given("required for plane"), "a point of the obstacle plane (orthogonal to n)");
-opt!(OBSTACLE_CENTER: Given = "-obstacle_center" "x,y[,z]", Given("required for ball, halfball"), "centre of the obstacle ball (circle in 2D)");
-opt!(OBSTACLE_RADIUS: Given = "-obstacle_radius" "R", Given("required for ball, halfball"), "radius of the obstacle ball");
+opt!(OBSTACLE_CENTER: Given = "-obstacle_center" "x,y[,z]", Given("required for ball, halfball, cylinder"), "centre of the obstacle ball (circle in 2D); for a cylinder, a point of its axis");
+opt!(OBSTACLE_AXIS: Given = "-obstacle_axis" "ax,ay,az", Given("required for a 3D cylinder"), "unit axis of the cylinder (3D only; a vector within 1e-3 of unit length is normalised)");
+opt!(OBSTACLE_RADIUS: Given = "-obstacle_radius" "R", Given("required for ball, halfball, cylinder"), "radius of the obstacle ball or cylinder");
 // Friction
 opt!(FRICTION: Choice = "-friction" "none|tresca|coulomb", Choice { default: "none", values: &["none", "tresca", "coulomb"] }, "friction law");
 opt!(FRICTION_COEFFICIENT: Given = "-friction_coefficient" "NU_F", Given("required with friction"), "Coulomb friction coefficient nu_f (also scales -tresca_bound hertz|frictionless)");
@@ -315,9 +317,11 @@ pub const ALL: &[&dyn Declared] = &[
     &DENSITY,
     &CONTACT_SURFACE,
     &CONTACT_DIRECTION,
+    &CONTACT_NORMAL,
     &OBSTACLE,
     &OBSTACLE_POINT,
     &OBSTACLE_CENTER,
+    &OBSTACLE_AXIS,
     &OBSTACLE_RADIUS,
     &FRICTION,
     &FRICTION_COEFFICIENT,

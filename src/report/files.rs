@@ -173,7 +173,7 @@ fn hertz_curve(
 fn plot_contact(path: &str, m: &Results) -> Result<(), Error> {
     use plot::{plot_with_axes, Axes, Series, Style};
     let (s, rows, d) = (m.settings, m.rows, m.local.dim);
-    let n = &m.problem.contact.n;
+    let n = &m.problem.contact.direction;
     let given = s
         .contact_center
         .as_deref()

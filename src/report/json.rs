@@ -16,6 +16,8 @@ pub struct Report {
     pub elements: usize,
     pub contact_nodes: usize,
     pub contact_active: usize,
+    /// How the gaps and normals were found: "fixed" or "closest".
+    pub contact_normal: &'static str,
     pub stick_nodes: usize,
     pub slip_nodes: usize,
     pub ranks: usize,
@@ -125,6 +127,7 @@ impl Report {
             elements: m.local.global_cells,
             contact_nodes: m.candidates,
             contact_active: m.totals.in_contact,
+            contact_normal: s.contact.as_ref().map_or("fixed", |c| c.normal.as_str()),
             stick_nodes: m.totals.stick,
             slip_nodes: m.totals.slip,
             ranks: m.ranks,

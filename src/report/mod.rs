@@ -44,6 +44,8 @@ pub struct ContactRow {
     /// The contact surface: the index of its group in `-contact_surface`
     /// (not in the CSV).
     pub group: usize,
+    /// The candidate's unit normal n_i (0 beyond the mesh's dimension).
+    pub normal: [f64; 3],
 }
 
 impl ContactRow {
@@ -71,6 +73,8 @@ pub fn contact_rows(
             x[..d].copy_from_slice(local.x(v));
             let mut ut = [0.0; 3];
             ut[..d].copy_from_slice(&sf.ut[i * d..(i + 1) * d]);
+            let mut normal = [0.0; 3];
+            normal[..d].copy_from_slice(cs.n(i));
             let mut lt = [0.0; 3];
             if friction {
                 lt[..d].copy_from_slice(&sf.stress_t[i * d..(i + 1) * d]);
@@ -94,6 +98,7 @@ pub fn contact_rows(
                 status,
                 bound: bound.get(i).copied().unwrap_or(0.0),
                 group: cs.group[i],
+                normal: normal.map(|v| v + 0.0),
             }
         })
         .collect()
@@ -336,12 +341,12 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 
 pub fn csv(rows: &[ContactRow]) -> String {
     let mut s = String::from(
-        "node,x,y,z,weight,gap,un,ut_x,ut_y,ut_z,lambda_n,lambda_t_x,lambda_t_y,lambda_t_z,status\n",
+        "node,x,y,z,weight,gap,un,ut_x,ut_y,ut_z,lambda_n,lambda_t_x,lambda_t_y,lambda_t_z,status,n_x,n_y,n_z\n",
     );
     for r in rows {
         let _ = writeln!(
             s,
-            "{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}",
+            "{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{:e},{:e}",
             r.node,
             r.x[0],
             r.x[1],
@@ -356,7 +361,10 @@ pub fn csv(rows: &[ContactRow]) -> String {
             r.lambda_t[0],
             r.lambda_t[1],
             r.lambda_t[2],
-            r.status_name()
+            r.status_name(),
+            r.normal[0],
+            r.normal[1],
+            r.normal[2]
         );
     }
     s

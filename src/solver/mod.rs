@@ -180,11 +180,11 @@ impl Problem {
         let t0 = std::time::Instant::now();
         let guard = stages.assembly.push()?;
         let extra: Vec<(usize, Vec<f64>)> = match terms {
-            ContactTerms::Ubr { tangential } => contact
-                .node
-                .iter()
-                .zip(&contact.w)
-                .map(|(&v, &w)| (v, contact_block(d, &contact.n, r * w, tangential)))
+            ContactTerms::Ubr { tangential } => (0..contact.len())
+                .map(|i| {
+                    let block = contact_block(d, contact.n(i), r * contact.w[i], tangential);
+                    (contact.node[i], block)
+                })
                 .collect(),
             ContactTerms::None => Vec::new(),
         };
@@ -353,7 +353,9 @@ fn eliminate<C: Communicator>(
 /// The Schur components of a candidate: the normal axis alone when
 /// frictionless along an axis (u_n is then a dof), else all.
 fn schur_components(contact: &ContactSet, d: usize, tangential: bool) -> Vec<usize> {
-    let axis = (0..d).find(|&c| contact.n[c].abs() == 1.0);
+    let axis = contact
+        .common_normal()
+        .and_then(|n| (0..d).find(|&c| n[c].abs() == 1.0));
     match axis {
         Some(a) if !tangential => vec![a],
         _ => (0..d).collect(),

@@ -135,7 +135,7 @@ impl Space {
                     sqrt_w.push(sw);
                 }
             } else {
-                let free = (0..d).any(|c| !surface.dirichlet[i * d + c] && cs.n[c] != 0.0);
+                let free = (0..d).any(|c| !surface.dirichlet[i * d + c] && cs.n(i)[c] != 0.0);
                 active.push(free);
                 sqrt_w.push(sw);
             }
@@ -162,7 +162,7 @@ impl Space {
                 self.sqrt_w[j] * x[j]
             } else {
                 let i = j / d;
-                self.sqrt_w[i] * x[i] * surface.cs.n[j % d]
+                self.sqrt_w[i] * x[i] * surface.cs.n(i)[j % d]
             };
         }
     }
@@ -248,7 +248,7 @@ fn deflation<C: Communicator>(
                     }
                 }
             } else if space.active[i] {
-                x[i] = space.sqrt_w[i] * (0..d).map(|c| u[c] * surface.cs.n[c]).sum::<f64>();
+                x[i] = space.sqrt_w[i] * (0..d).map(|c| u[c] * surface.cs.n(i)[c]).sum::<f64>();
             }
         }
         orthogonalize(world, &deflate, &mut x);

@@ -112,11 +112,12 @@ impl Rigid {
                     continue;
                 }
                 let u = bodies.displacement(m, x);
-                let un: f64 = (0..d).map(|c| u[c] * cs.n[c]).sum();
+                let n = cs.n(i);
+                let un: f64 = (0..d).map(|c| u[c] * n[c]).sum();
                 a[i * k + j] = un;
                 if tangential {
                     for c in 0..d {
-                        t[(i * d + c) * k + j] = u[c] - un * cs.n[c];
+                        t[(i * d + c) * k + j] = u[c] - un * n[c];
                     }
                 }
             }

@@ -28,10 +28,13 @@ pub fn snes_vi<C: Communicator>(
     let d = problem.dim;
     let cs = &problem.contact;
     let nc = cs.len();
-    let n = &cs.n;
-    let Some(axis) = (0..d).find(|&c| n[c].abs() == 1.0) else {
-        return bad("-contact_algorithm snesvi needs a contact direction along a coordinate axis (the bound u.n <= g must bound one component)");
+    let Some(axis) = cs
+        .common_normal()
+        .and_then(|n| (0..d).find(|&c| n[c].abs() == 1.0))
+    else {
+        return bad("-contact_algorithm snesvi needs one contact normal along a coordinate axis for every candidate (the bound u.n <= g must bound one component): use -contact_normal fixed with an axis -contact_direction");
     };
+    let n = &cs.direction;
     let sign = n[axis];
     options::set_default("-snes_linesearch_type", "basic")?;
     let lower = problem.lin.rhs0.duplicate()?;

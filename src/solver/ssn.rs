@@ -46,7 +46,6 @@ pub fn ssn_c<C: Communicator>(
     let d = problem.dim;
     let cs = &problem.contact;
     let nc = cs.len();
-    let n = &cs.n;
     let r = ctl.r;
     let root = world.rank() == 0;
     let lambda_hat = 0.0;
@@ -88,7 +87,7 @@ pub fn ssn_c<C: Communicator>(
         let changed = state.u.read(|u| {
             let mut changed = 0.0;
             for i in 0..nc {
-                let base = cs.node[i] * d;
+                let (base, n) = (cs.node[i] * d, cs.n(i));
                 let un: f64 = (0..d).map(|c| u[base + c] * n[c]).sum();
                 next[i] = lambda_hat + r * (un - cs.g[i]) > 0.0;
                 if next[i] != active[i] {
@@ -162,7 +161,7 @@ fn active_system(
 ) -> Result<(), Error> {
     let d = problem.dim;
     let cs = &problem.contact;
-    let (nc, n) = (cs.len(), &cs.n);
+    let nc = cs.len();
     let is_dir = &problem.dirichlet.fixed;
     let lambda_hat = 0.0;
     a.copy_from(base)?;
@@ -170,7 +169,7 @@ fn active_system(
     let mut idx = Vec::with_capacity(d);
     let mut vals = Vec::with_capacity(d * d);
     for i in (0..nc).filter(|&i| active[i]) {
-        let base = cs.node[i] * d;
+        let (base, n) = (cs.node[i] * d, cs.n(i));
         let rw = r * cs.w[i];
         idx.clear();
         vals.clear();
@@ -193,7 +192,7 @@ fn active_system(
     rhs.copy_from(&problem.lin.rhs0)?;
     rhs.write(|b| {
         for i in (0..nc).filter(|&i| active[i]) {
-            let base = cs.node[i] * d;
+            let (base, n) = (cs.node[i] * d, cs.n(i));
             let w = cs.w[i];
             // r g - lambda_hat along n, lifted by the prescribed components.
             let lift: f64 = (0..d).map(|c| n[c] * xd[base + c]).sum();
@@ -219,13 +218,13 @@ fn multipliers(
 ) -> Result<f64, Error> {
     let d = problem.dim;
     let cs = &problem.contact;
-    let (nc, n) = (cs.len(), &cs.n);
+    let nc = cs.len();
     let lambda_hat = 0.0;
     let surface = &mut state.surface;
     state.u.read(|u| {
         let mut contact = 0.0;
         for i in 0..nc {
-            let base = cs.node[i] * d;
+            let (base, n) = (cs.node[i] * d, cs.n(i));
             let un: f64 = (0..d).map(|c| u[base + c] * n[c]).sum();
             surface.un[i] = un;
             for c in 0..d {

@@ -371,6 +371,9 @@ pub struct Report {
     pub criterion: f64,
     #[serde(deserialize_with = "number")]
     pub contact_active: f64,
+    /// `"fixed"` or `"closest"` (absent from older reports).
+    #[serde(default)]
+    pub contact_normal: String,
     #[serde(deserialize_with = "number")]
     pub stick_nodes: f64,
     #[serde(deserialize_with = "number")]
@@ -439,7 +442,7 @@ pub fn report(path: &Path) -> Report {
 // ----- the contact CSV -----
 
 pub const CSV_HEADER: &str =
-    "node,x,y,z,weight,gap,un,ut_x,ut_y,ut_z,lambda_n,lambda_t_x,lambda_t_y,lambda_t_z,status";
+    "node,x,y,z,weight,gap,un,ut_x,ut_y,ut_z,lambda_n,lambda_t_x,lambda_t_y,lambda_t_z,status,n_x,n_y,n_z";
 
 /// A contact CSV row (docs/DESIGN.md, "-contact_output FILE.csv").
 #[derive(Clone, Debug)]
@@ -453,6 +456,8 @@ pub struct Row {
     pub lambda_n: f64,
     pub lambda_t: [f64; 3],
     pub status: String,
+    /// The candidate's unit normal (the columns appended last).
+    pub normal: [f64; 3],
 }
 
 pub fn contact_rows(path: &Path) -> Vec<Row> {
@@ -466,7 +471,7 @@ pub fn parse_rows(text: &str) -> Vec<Row> {
     lines
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();
-            assert_eq!(f.len(), 15, "{l}");
+            assert_eq!(f.len(), 18, "{l}");
             let v = |i: usize| -> f64 {
                 f[i].parse()
                     .unwrap_or_else(|e| panic!("column {i} of '{l}': {e}"))
@@ -481,6 +486,7 @@ pub fn parse_rows(text: &str) -> Vec<Row> {
                 lambda_n: v(10),
                 lambda_t: [v(11), v(12), v(13)],
                 status: f[14].to_string(),
+                normal: [v(15), v(16), v(17)],
             }
         })
         .collect()

@@ -798,10 +798,12 @@ impl<'a, C: Communicator> Run<'a, C> {
             let (st, surface) = (&mut self.state.surface, &self.surface);
             self.state.u.read(|u| {
                 for (i, &v) in surface.cs.node.iter().enumerate() {
-                    let un = surface.normal(&u[v * d..(v + 1) * d], 0);
-                    let mut ut = [0.0; 3];
-                    surface.tangential_part(&u[v * d..(v + 1) * d], 0, un, &mut ut);
-                    st.ut[i * d..(i + 1) * d].copy_from_slice(&ut[..d]);
+                    // (The node's own normal n_i: its u is candidate i's.)
+                    let (uv, n) = (&u[v * d..(v + 1) * d], surface.cs.n(i));
+                    let un: f64 = (0..d).map(|c| uv[c] * n[c]).sum();
+                    for c in 0..d {
+                        st.ut[i * d + c] = uv[c] - un * n[c];
+                    }
                 }
             })?;
         }
