@@ -450,17 +450,39 @@ impl LinearSolver {
         Ok(y0)
     }
 
+    /// Condensed: the Schur components of `u_C` for the right-hand side
+    /// `rhs` at the assembled r (one solve with the factors); None when not
+    /// condensed.
+    pub fn contact_part(
+        &mut self,
+        surface: &Surface,
+        rhs: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error> {
+        if self.y0.is_none() || self.failure().is_some() {
+            return Ok(None);
+        }
+        self.solves += 1;
+        let mut y = vec![0.0; surface.len() * self.comps.len()];
+        if let Engine::Direct(d) = &mut self.engine {
+            d.solve_contact_part(&self.world, rhs, &mut y, 1)?;
+        }
+        Ok(Some(y))
+    }
+
     /// A new load on the same factorization (a step of a load history):
     /// `rhs0` (made at the assembly's r), the Dirichlet values at the
     /// contact unknowns `xd_c` and the owned Dirichlet dofs and values;
-    /// condensed, `y0` from one solve with the factors (and a dense solve
-    /// where r moved).
+    /// condensed, `y0` at the assembled r given as `y0a` (a combination of
+    /// [`LinearSolver::contact_part`]s), else from one solve with the
+    /// factors, which also prepares the expansion; then a dense solve where
+    /// r moved.
     pub fn set_load(
         &mut self,
         surface: &Surface,
         rhs0: &[f64],
         xd_c: Vec<f64>,
         dirichlet: Vec<(usize, f64)>,
+        y0a: Option<Vec<f64>>,
     ) -> Result<(), Error> {
         self.rhs0.write(|b| b.copy_from_slice(rhs0))?;
         self.xd_c = xd_c;
@@ -477,11 +499,17 @@ impl LinearSolver {
         if self.y0.is_none() || self.failure().is_some() {
             return Ok(());
         }
-        self.solves += 1;
-        let mut y0a = vec![0.0; surface.len() * self.comps.len()];
-        if let Engine::Direct(d) = &mut self.engine {
-            d.solve_contact_part(&self.world, rhs0, &mut y0a, 2)?;
-        }
+        let y0a = match y0a {
+            Some(y) => y,
+            None => {
+                self.solves += 1;
+                let mut y = vec![0.0; surface.len() * self.comps.len()];
+                if let Engine::Direct(d) = &mut self.engine {
+                    d.solve_contact_part(&self.world, rhs0, &mut y, 2)?;
+                }
+                y
+            }
+        };
         let y0 = if self.r == self.r_assembled {
             y0a.clone()
         } else {

@@ -33,6 +33,10 @@ pub struct LoadPart {
 pub struct LoadParts {
     pub parts: Vec<LoadPart>,
     pub rest: Option<LoadPart>,
+    /// Condensed: the Schur components of `u_C` for each part's `rhs0`
+    /// (then the rest's), made at the first step: a step's `y0` is their
+    /// combination, with no solve.
+    y0: Option<Vec<Vec<f64>>>,
 }
 
 /// Per named group, before the elimination: `f_g` and `f_g - A x_{D,g}`.
@@ -125,6 +129,7 @@ pub fn finish(
         return Ok(Some(LoadParts {
             parts: vec![whole],
             rest: None,
+            y0: None,
         }));
     };
     let mut rest = whole;
@@ -143,6 +148,7 @@ pub fn finish(
     Ok(Some(LoadParts {
         parts,
         rest: Some(rest),
+        y0: None,
     }))
 }
 
@@ -175,11 +181,30 @@ impl Problem {
     /// Moves the problem to the load of `factors` (one per group of the
     /// history): the load f, the Dirichlet values and the lifted
     /// right-hand side, on the same factorization.
-    pub fn apply_load(&mut self, factors: &[f64]) -> Result<(), Error> {
+    /// `whole`: the step's whole displacement is wanted (condensed: the
+    /// solve that gives `y0` also prepares its expansion).
+    pub fn apply_load(&mut self, factors: &[f64], whole: bool) -> Result<(), Error> {
+        if !whole {
+            self.part_responses()?;
+        }
         let Some(parts) = &self.parts else {
             return Err(Error::Internal("a load step without a load history".into()));
         };
         let step = parts.at(factors);
+        let y0a = match (&parts.y0, whole) {
+            (Some(y0), false) => {
+                let mut y = vec![0.0; y0[0].len()];
+                let rest = parts.rest.as_ref().map(|_| &y0[parts.parts.len()]);
+                for (yg, &a) in y0.iter().zip(factors) {
+                    y.iter_mut().zip(yg).for_each(|(y, g)| *y += a * g);
+                }
+                if let Some(r) = rest {
+                    y.iter_mut().zip(r).for_each(|(y, g)| *y += g);
+                }
+                Some(y)
+            }
+            _ => None,
+        };
         self.load.write(|f| f.copy_from_slice(&step.load))?;
         let d = self.dim;
         for (i, v) in self.dirichlet.dofs.iter_mut() {
@@ -211,6 +236,32 @@ impl Problem {
             &step.rhs0,
             self.dirichlet.contact_values.clone(),
             self.dirichlet.dofs.clone(),
+            y0a,
         )
+    }
+
+    /// Condensed: the Schur components of each part's response, once.
+    fn part_responses(&mut self) -> Result<(), Error> {
+        let Some(parts) = self.parts.as_mut() else {
+            return Ok(());
+        };
+        if parts.y0.is_some() {
+            return Ok(());
+        }
+        let surface = super::Surface {
+            cs: &self.contact,
+            dim: self.dim,
+            tangential: self.tangential,
+            dirichlet: &self.dirichlet.contact,
+        };
+        let mut y0 = Vec::new();
+        for p in parts.parts.iter().chain(&parts.rest) {
+            match self.lin.contact_part(&surface, &p.rhs0)? {
+                Some(y) => y0.push(y),
+                None => return Ok(()),
+            }
+        }
+        parts.y0 = Some(y0);
+        Ok(())
     }
 }

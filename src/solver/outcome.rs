@@ -131,6 +131,7 @@ pub fn control(settings: &Settings) -> ubr::UbrControl {
         anderson: u.anderson,
         drift_limit: f64::INFINITY,
         r_far: None,
+        displacement: true,
     }
 }
 
@@ -462,7 +463,8 @@ pub fn solve<C: Communicator>(
 /// One step of a load history (UBR): the algorithm on the problem's
 /// current load from `state`, the previous step's iterate (warm); CF-FP
 /// starts from `s_prev`, the previous step's bound nu_f |lambda_c|, where
-/// no `-tresca_bound` gives s^0.
+/// no `-tresca_bound` gives s^0; `displacement`: whether the step's whole
+/// displacement is wanted (condensed: else `state.u` keeps its last value).
 #[allow(clippy::too_many_arguments)]
 pub fn solve_step<C: Communicator>(
     world: &C,
@@ -473,7 +475,12 @@ pub fn solve_step<C: Communicator>(
     events: &Events,
     state: &mut UbrState,
     s_prev: &[f64],
+    displacement: bool,
 ) -> Result<Solved, Error> {
+    let warm = Warm {
+        s_prev,
+        displacement,
+    };
     run(
         world,
         local,
@@ -482,8 +489,15 @@ pub fn solve_step<C: Communicator>(
         restraint,
         events,
         state,
-        Some(s_prev),
+        Some(warm),
     )
+}
+
+/// A later step of a load history: the previous bound, and whether the
+/// step's whole displacement is wanted.
+struct Warm<'a> {
+    s_prev: &'a [f64],
+    displacement: bool,
 }
 
 /// UBR-C, UBR-TF or CF-FP from `state`.
@@ -496,15 +510,17 @@ fn run<C: Communicator>(
     restraint: &Restraint,
     events: &Events,
     state: &mut UbrState,
-    s_prev: Option<&[f64]>,
+    warm: Option<Warm>,
 ) -> Result<Solved, Error> {
     let friction_held = restraint.friction_held;
     let u = &settings.ubr;
     let ctl = ubr::UbrControl {
         drift_limit: drift_limit(world, restraint, &problem.contact),
         r_far: r_far(world, local, settings, problem),
+        displacement: warm.as_ref().is_none_or(|w| w.displacement),
         ..control(settings)
     };
+    let s_prev = warm.map(|w| w.s_prev);
     let nc = problem.contact.len();
     let nu_f = settings.friction_coefficient;
     let mut solved = Solved::new();

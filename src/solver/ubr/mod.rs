@@ -88,6 +88,10 @@ pub struct UbrControl {
     /// The trial r0 of `-ubr_r auto` where the user's r is more than
     /// [`R_FAR`] times away from it (a likely cause of a failure).
     pub r_far: Option<f64>,
+    /// Whether a condensed run computes the whole displacement at its end
+    /// (false: the steps of a load history whose displacement nothing
+    /// reads; `u` then keeps its last value).
+    pub displacement: bool,
 }
 
 /// A user's r this many times above or below the trial r0 is far outside

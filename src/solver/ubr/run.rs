@@ -773,7 +773,8 @@ impl<'a, C: Communicator> Run<'a, C> {
         let d = self.d;
         // A condensed run knows it at the contact nodes only (the paper's
         // candidates leave theirs).
-        if self.lin.is_condensed() && !self.paper {
+        let whole = self.ctl.displacement;
+        if self.lin.is_condensed() && !self.paper && whole {
             // The paper's change (4.16)/(5.6) is reported in every mode: u^{k-1}
             // and u^k from one solve with two right-hand sides.
             // (From u_C alone: the equilibrium check of the answer then tests
@@ -792,7 +793,7 @@ impl<'a, C: Communicator> Run<'a, C> {
             let [du2, u2] = allreduce_sum(self.world, [du2, u2]);
             self.out.criterion = paper_change(du2, self.last.dphi2, u2, self.last.phi2);
         }
-        if self.was_condensed {
+        if self.was_condensed && whole {
             // A condensed solve knew u at the Schur components only: u_t of the
             // candidates from the whole displacement now known.
             let (st, surface) = (&mut self.state.surface, &self.surface);
