@@ -7,6 +7,7 @@
 use super::{ContactProblem, Solution};
 use crate::checks;
 use crate::comm::allreduce_sum_vec;
+use crate::contact::hertz;
 use crate::error::Error;
 use crate::fem;
 use crate::mesh::distribute::LocalMesh;
@@ -334,11 +335,21 @@ impl<C: Communicator> ContactProblem<'_, C> {
         row.curve = curve.point(world, h, &h.factors[k], d, &u_local, &forces.reactions);
         if self.root {
             let contact = s.contact.as_ref().expect("a contact surface");
-            let center = s
-                .contact_center
-                .clone()
-                .unwrap_or_else(|| contact.obstacle.anchor().to_vec());
-            measures(&rows, d, &center, Some(&contact.direction), &mut row);
+            // The contact centre: -reference_center, else the candidate
+            // with the smallest gap; the extent is measured orthogonal to
+            // -contact_direction, else to that candidate's normal.
+            let center = hertz::center(
+                s.contact_center.as_deref(),
+                d,
+                rows.iter().map(|r| (r.gap, &r.x[..])),
+            );
+            let nearest = rows.iter().min_by(|a, b| a.gap.total_cmp(&b.gap));
+            let n = if contact.direction.len() == d {
+                contact.direction.clone()
+            } else {
+                nearest.map_or(vec![0.0; d], |r| r.normal[..d].to_vec())
+            };
+            measures(&rows, d, &center, Some(&n), &mut row);
         }
         if let Some(path) = &s.vtk {
             let rows = report::broadcast_rows(world, &rows);

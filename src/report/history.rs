@@ -21,8 +21,10 @@ pub struct StepRow {
     /// 2D, an area in 3D).
     pub contact_area: f64,
     /// Largest distance of a node in contact from the contact centre
-    /// (`-reference_center`, else the obstacle's point or centre): the
-    /// half-width (2D) or radius (3D) of the contact zone.
+    /// (`-reference_center`, else the candidate with the smallest gap),
+    /// orthogonal to the contact direction (`-contact_direction`, else that
+    /// candidate's normal): the half-width (2D) or radius (3D) of the
+    /// contact zone.
     pub contact_extent: f64,
     pub peak_pressure: f64,
     pub contact_nodes: usize,
