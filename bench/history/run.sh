@@ -4,12 +4,13 @@
 # factorization). Usage: bash bench/history/run.sh [RANKS] [REPEAT]
 # Prints, per scene, the median wall time (mpirun included) and the median
 # of the program's own total, single and 20 steps, and their ratios.
+# BIN=path overrides the binary (a copy, so that a build does not change it).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 RANKS=${1:-2}
 REPEAT=${2:-3}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OPENBLAS_NUM_THREADS=1
-BIN=target/release/ubr-petsc
+BIN=${BIN:-target/release/ubr-petsc}
 scenes=(
   "hertz|-options_file options/hertz"
   "block3d|-options_file options/block3d"
