@@ -380,6 +380,61 @@ fn cattaneo_mindlin_stick_zone_and_hysteresis() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A quasi-static Coulomb history (press, pull sideways, release the
+/// pull) on 1, 2 and 3 ranks at a tight tolerance: the final stresses agree
+/// to 1e-8 of the peak (measured 1.1e-13).
+#[test]
+fn quasi_static_coulomb_ranks_agree() {
+    let (dir, msh) = gmsh_2d("history-ranks", "tests/scenes/crowned2d_coulomb.geo");
+    let table = dir.join("t.csv");
+    std::fs::write(
+        &table,
+        "step,dirichlet_top,traction_top\n1,0.5,0\n2,1,0\n3,1,0.5\n4,1,1\n5,1,0\n",
+    )
+    .unwrap();
+    let args = [
+        "-mesh",
+        &msh,
+        "-E",
+        "1000",
+        "-nu",
+        "0.45",
+        "-contact_surface",
+        "crown",
+        "-contact_direction",
+        "0,-1",
+        "-obstacle",
+        "plane",
+        "-obstacle_point",
+        "0,0",
+        "-friction",
+        "coulomb",
+        "-friction_coefficient",
+        "0.4",
+        "-dirichlet_top",
+        "uy=-0.02",
+        "-traction_top",
+        "0.3,0",
+        "-load_history",
+        table.to_str().unwrap(),
+        "-ubr_lambda_rtol",
+        "1e-10",
+    ];
+    let runs: Vec<Vec<Row>> = (1..=3)
+        .map(|n| solve_rows(&format!("history-ranks-{n}"), n, &args).2)
+        .collect();
+    assert!(runs[0].iter().any(|r| r.status == "slip"), "nothing slips");
+    for (n, rows) in runs.iter().enumerate().skip(1) {
+        let gap = max_stress_gap(rows, &runs[0]);
+        assert!(
+            gap < 1e-8,
+            "1 and {} ranks: stresses differ by {gap:e}",
+            n + 1
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Bad histories end with exit 2 and one line naming the option.
 #[test]
 fn bad_histories_are_refused() {
