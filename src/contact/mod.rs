@@ -9,6 +9,7 @@ use crate::options::ContactSettings;
 pub use obstacle::{gap, Obstacle};
 
 pub mod hertz;
+pub mod mesh_obstacle;
 pub mod obstacle;
 pub mod surface;
 
