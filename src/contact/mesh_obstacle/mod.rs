@@ -126,6 +126,8 @@ struct Prim {
     elem: usize,
     segment: bool,
     p: [V3; 3],
+    /// The corners' bounding box (rstar asks for it at every visit).
+    envelope: AABB<V3>,
 }
 
 impl Prim {
@@ -141,10 +143,7 @@ impl Prim {
 impl RTreeObject for Prim {
     type Envelope = AABB<V3>;
     fn envelope(&self) -> AABB<V3> {
-        let [a, b, c] = &self.p;
-        let lo = [0, 1, 2].map(|k| a[k].min(b[k]).min(c[k]));
-        let hi = [0, 1, 2].map(|k| a[k].max(b[k]).max(c[k]));
-        AABB::from_corners(lo, hi)
+        self.envelope
     }
 }
 
@@ -251,10 +250,17 @@ impl MeshObstacle {
             .elems
             .iter()
             .enumerate()
-            .map(|(e, c)| Prim {
-                elem: e,
-                segment: surface.dim == 2,
-                p: c.map(|i| surface.coords[i]),
+            .map(|(e, c)| {
+                let p = c.map(|i| surface.coords[i]);
+                let [a, b, c] = &p;
+                let lo = [0, 1, 2].map(|k| a[k].min(b[k]).min(c[k]));
+                let hi = [0, 1, 2].map(|k| a[k].max(b[k]).max(c[k]));
+                Prim {
+                    elem: e,
+                    segment: surface.dim == 2,
+                    p,
+                    envelope: AABB::from_corners(lo, hi),
+                }
             })
             .collect();
         let tree = RTree::bulk_load(prims);
@@ -353,6 +359,17 @@ impl MeshObstacle {
                 0.0
             },
         ];
+        // Nothing within the search distance: no nearest-neighbour search
+        // (deep inside or far outside, every box is about as near).
+        if self.search.is_finite()
+            && self
+                .tree
+                .locate_within_distance(q, self.search * self.search)
+                .next()
+                .is_none()
+        {
+            return None;
+        }
         let prim = self.tree.nearest_neighbor(&q)?;
         let (p, feature) = prim.closest(&q);
         let diff = geom::sub(&q, &p);
