@@ -629,3 +629,93 @@ fn timing_1e5_queries_on_2e4_triangles() {
     let (t, _) = time_queries(&ob, &any);
     println!("sphere: 1e5 queries in [-1.5, 1.5]^3, search distance 0.1, in {t:?}");
 }
+
+/// Whether `x` is inside the tetrahedron or triangle with corners `c`
+/// (barycentric coordinates, from signed volumes or areas).
+fn in_simplex(c: &[V3], x: &V3) -> bool {
+    let vol = |p: &[V3]| match p.len() {
+        4 => geom::dot(
+            &geom::sub(&p[1], &p[0]),
+            &geom::cross(&geom::sub(&p[2], &p[0]), &geom::sub(&p[3], &p[0])),
+        ),
+        _ => geom::cross(&geom::sub(&p[1], &p[0]), &geom::sub(&p[2], &p[0]))[2],
+    };
+    let total = vol(c);
+    (0..c.len()).all(|i| {
+        let mut p = c.to_vec();
+        p[i] = *x;
+        vol(&p) / total >= 0.0
+    })
+}
+
+/// A thin simplex (sharp edges and corners, where a face normal alone
+/// gives the wrong sign) and its cavity (reflex edges): the sign of the
+/// gap at random points matches a point-in-simplex test, and its size
+/// the distance to the nearest element.
+#[test]
+fn sharp_simplex_signs_from_pseudo_normals() {
+    let tet: [V3; 4] = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.5, 0.15, 0.0],
+        [0.45, 0.05, 2.0],
+    ];
+    let tri: [V3; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 0.08, 0.0]];
+    // Faces of the tetrahedron with outward normals (its volume is positive).
+    let tet_faces = [0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2];
+    let tri_segs = [0, 1, 1, 2, 2, 0];
+    let mut rng = Lcg(13);
+    for (dim, corners, elems) in [(3, &tet[..], &tet_faces[..]), (2, &tri[..], &tri_segs[..])] {
+        let coords: Vec<f64> = corners.iter().flat_map(|p| p[..dim].to_vec()).collect();
+        let solid = MeshObstacle::from_elements(dim, &coords, elems, "solid").unwrap();
+        let flipped: Vec<usize> = elems
+            .chunks_exact(dim)
+            .flat_map(|c| c.iter().rev().copied())
+            .collect();
+        let cavity = MeshObstacle::from_elements(dim, &coords, &flipped, "cavity").unwrap();
+        assert!(solid.enclosed_volume() > 0.0 && cavity.enclosed_volume() < 0.0);
+        let mut inside_hits = 0;
+        for _ in 0..20000 {
+            let mut x = rng.point(dim, -0.3, 1.3);
+            if dim == 3 {
+                x[2] = 2.6 * x[2] - 0.5;
+            }
+            let q = [x[0], x[1], x.get(2).copied().unwrap_or(0.0)];
+            let inside = in_simplex(corners, &q);
+            inside_hits += usize::from(inside);
+            let dist = solid
+                .surface
+                .elems
+                .iter()
+                .map(|c| {
+                    let p = if dim == 3 {
+                        geom::closest_on_triangle(
+                            &q,
+                            &corners[c[0]],
+                            &corners[c[1]],
+                            &corners[c[2]],
+                        )
+                        .0
+                    } else {
+                        geom::closest_on_segment(&q, &corners[c[0]], &corners[c[1]]).0
+                    };
+                    geom::norm(&geom::sub(&q, &p))
+                })
+                .fold(f64::INFINITY, f64::min);
+            let want = if inside { -dist } else { dist };
+            let (a, b) = (solid.closest(&x).unwrap(), cavity.closest(&x).unwrap());
+            assert!(
+                (a.gap - want).abs() < 1e-12,
+                "{dim}D solid {x:?}: {} not {want}",
+                a.gap
+            );
+            assert!(
+                (b.gap + want).abs() < 1e-12,
+                "{dim}D cavity {x:?}: {} not {}",
+                b.gap,
+                -want
+            );
+        }
+        assert!(inside_hits > 50, "{dim}D: {inside_hits} points inside");
+    }
+}
