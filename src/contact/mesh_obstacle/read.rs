@@ -266,12 +266,22 @@ impl<'a> Gmsh<'a> {
 
     fn read(mut self, group: Option<&str>) -> Result<Surface, Error> {
         self.format()?;
+        let mut seen = Vec::new();
         while let Some(l) = self.next() {
             match l.1[0] {
                 "$PhysicalNames" => self.physical_names()?,
                 "$Entities" if self.v4 => self.entities()?,
-                "$Nodes" if self.node_tags.is_empty() => self.nodes()?,
-                "$Elements" if self.elems.is_empty() => self.elements()?,
+                "$Nodes" | "$Elements" if seen.contains(&l.1[0]) => {
+                    return self.err(l.0, format_args!("a second {} section", l.1[0]))
+                }
+                "$Nodes" => {
+                    seen.push("$Nodes");
+                    self.nodes()?
+                }
+                "$Elements" => {
+                    seen.push("$Elements");
+                    self.elements()?
+                }
                 w if w.starts_with("$End") || !w.starts_with('$') => {
                     return self.err(l.0, format_args!("expected a section header, found `{w}`"))
                 }

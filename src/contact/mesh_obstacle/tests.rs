@@ -490,6 +490,8 @@ fn file_errors_name_the_file_and_line() {
     assert!(e.contains(":12: higher-order element (Gmsh type 9)"), "{e}");
     let e = read_error(&ONE_TRIANGLE.replace("$EndElements\n", ""), 3);
     assert!(e.contains("unexpected end of file in $Elements"), "{e}");
+    let e = read_error(&format!("{ONE_TRIANGLE}$Nodes\n0\n$EndNodes\n"), 3);
+    assert!(e.contains(":14: a second $Nodes section"), "{e}");
     let e = read_error("hello\n", 3);
     assert!(
         e.ends_with("not a Gmsh mesh ($MeshFormat) or an STL file (solid ...)"),
