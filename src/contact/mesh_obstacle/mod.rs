@@ -156,7 +156,7 @@ impl rstar::PointDistance for Prim {
 }
 
 /// A rigid obstacle bounded by a surface mesh (see the module doc).
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct MeshObstacle {
     surface: Surface,
     /// Unit outward normal of each element.
@@ -286,10 +286,17 @@ impl MeshObstacle {
     }
 
     /// The same obstacle, with [`MeshObstacle::closest`] returning None for
-    /// points farther than `d` from the surface (treated as open).
+    /// points farther than `d >= 0` from the surface, on either side
+    /// (treated as open); infinity (the default) returns every point.
     pub fn with_search_distance(mut self, d: f64) -> MeshObstacle {
         self.search = d;
         self
+    }
+
+    /// The file it was read from (the name given to
+    /// [`MeshObstacle::from_elements`]).
+    pub fn file(&self) -> &str {
+        &self.surface.file
     }
 
     /// The body's dimension, 2 or 3.
