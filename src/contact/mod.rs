@@ -11,6 +11,7 @@ use crate::options::{ContactSettings, NormalMode};
 pub use obstacle::{closest, gap, Obstacle};
 
 pub mod hertz;
+pub mod mesh_obstacle;
 pub mod obstacle;
 pub mod surface;
 
