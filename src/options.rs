@@ -373,11 +373,14 @@ fn contact(notes: &mut Vec<String>) -> Result<Option<ContactSettings>, Error> {
         Some(k) => k,
         None => {
             return bad(
-                "option -obstacle (plane, ball, halfball or cylinder) is required with -contact_surface",
+                "option -obstacle (plane, ball, halfball, cylinder or mesh) is required with -contact_surface",
             )
         }
     };
     let normal = match (CONTACT_NORMAL.get()?, kind) {
+        ("fixed", "mesh") => {
+            return bad("option -contact_normal fixed: -obstacle mesh measures gaps to each node's closest point (-contact_normal closest or auto)")
+        }
         ("fixed", _) | ("auto", "plane") => NormalMode::Fixed,
         _ => NormalMode::Closest,
     };
@@ -392,7 +395,9 @@ fn contact(notes: &mut Vec<String>) -> Result<Option<ContactSettings>, Error> {
         None => Vec::new(),
     };
     let obstacle = obstacle(kind, notes)?;
-    if normal == NormalMode::Closest && !direction.is_empty() && matches!(kind, "ball" | "cylinder")
+    if normal == NormalMode::Closest
+        && !direction.is_empty()
+        && matches!(kind, "ball" | "cylinder" | "mesh")
     {
         notes.push(
             "note: -contact_direction does not set the gaps with closest normals (-contact_normal); it orients the Hertz comparison and the plots only".into(),
@@ -434,6 +439,34 @@ fn unit(name: &str, mut v: Vec<f64>, notes: &mut Vec<String>) -> Result<Vec<f64>
 /// The obstacle of kind `kind` from its options (the dimensions are
 /// checked against the mesh's by [`crate::contact::ContactSet::build`]).
 fn obstacle(kind: &str, notes: &mut Vec<String>) -> Result<Obstacle, Error> {
+    if kind == "mesh" {
+        let Some(file) = OBSTACLE_MESH.word()? else {
+            return bad("option -obstacle_mesh is required with -obstacle mesh");
+        };
+        let search = OBSTACLE_SEARCH_DISTANCE
+            .real()?
+            .map(|d| positive(OBSTACLE_SEARCH_DISTANCE.name, d))
+            .transpose()?;
+        return Ok(Obstacle::Mesh {
+            file,
+            group: OBSTACLE_MESH_GROUP.word()?,
+            search,
+        });
+    }
+    for (opt, given) in [
+        (OBSTACLE_MESH.name, OBSTACLE_MESH.is_set()?),
+        (OBSTACLE_MESH_GROUP.name, OBSTACLE_MESH_GROUP.is_set()?),
+        (
+            OBSTACLE_SEARCH_DISTANCE.name,
+            OBSTACLE_SEARCH_DISTANCE.is_set()?,
+        ),
+    ] {
+        if given {
+            return bad(format!(
+                "option {opt}: only -obstacle mesh reads it (-obstacle {kind})"
+            ));
+        }
+    }
     if kind == "plane" {
         let Some(point) = OBSTACLE_POINT.vector()? else {
             return bad("option -obstacle_point is required with -obstacle plane");

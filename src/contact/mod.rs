@@ -140,6 +140,14 @@ impl ContactSet {
                 return bad("option -obstacle_axis: a 2D cylinder is the disc, it has no axis");
             }
         }
+        let surface = match &settings.obstacle {
+            Obstacle::Mesh {
+                file,
+                group,
+                search,
+            } => Some(read_surface(file, group.as_deref(), *search, d)?),
+            _ => None,
+        };
         let n = &settings.direction;
         // Weights of every owned node of the surface.
         let mut weight = vec![0.0; mesh.owned_count];
@@ -180,7 +188,10 @@ impl ContactSet {
             if !on_surface[v] {
                 continue;
             }
-            let found = if fixed {
+            let found = if let Some(s) = &surface {
+                // Farther than the search distance: no candidate.
+                s.closest(mesh.x(v)).map(|c| (c.gap, c.normal))
+            } else if fixed {
                 gap(mesh.x(v), n, &settings.obstacle).map(|g| (g, n.clone()))
             } else {
                 let found = closest(mesh.x(v), n, &settings.obstacle);
@@ -199,6 +210,25 @@ impl ContactSet {
         }
         Ok(set)
     }
+}
+
+/// The rigid surface of `-obstacle mesh`: read (every rank reads the same
+/// file, so an error is the same on every rank), closed, with its search
+/// distance.
+fn read_surface(
+    file: &str,
+    group: Option<&str>,
+    search: Option<f64>,
+    dim: usize,
+) -> Result<mesh_obstacle::MeshObstacle, Error> {
+    let surface = mesh_obstacle::MeshObstacle::read_group(std::path::Path::new(file), dim, group)?;
+    // A signed distance needs an inside: a closed surface (an open one
+    // would give nodes beyond its rim a gap of the wrong sign).
+    surface.require_closed()?;
+    Ok(match search {
+        Some(d) => surface.with_search_distance(d),
+        None => surface,
+    })
 }
 
 /// The contact projection (4.15) with the multiplier update (4.4) at one node:

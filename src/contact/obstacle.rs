@@ -12,6 +12,9 @@ impl Obstacle {
             Obstacle::Ball { center, .. }
             | Obstacle::HalfBall { center, .. }
             | Obstacle::Cylinder { center, .. } => center,
+            // (A surface has no one point: callers take the candidate
+            // with the smallest gap.)
+            Obstacle::Mesh { .. } => &[],
         }
     }
 }
@@ -45,6 +48,9 @@ pub fn gap(x: &[f64], n: &[f64], obstacle: &Obstacle) -> Option<f64> {
             let np: Vec<f64> = np.iter().map(|v| v / len).collect();
             ball_entry(&xp, &np, &off_axis(center, axis), *radius).map(|t| t / len)
         }
+        // (Refused by the options: a surface's gaps are closest-point ones,
+        // [`crate::contact::mesh_obstacle`].)
+        Obstacle::Mesh { .. } => None,
     }
 }
 
@@ -89,6 +95,9 @@ pub fn closest(x: &[f64], direction: &[f64], obstacle: &Obstacle) -> Option<(f64
                 _ => Some((floor, direction.to_vec())),
             }
         }
+        // (Read into a [`crate::contact::mesh_obstacle::MeshObstacle`] by
+        // the contact set, which asks it.)
+        Obstacle::Mesh { .. } => None,
     }
 }
 

@@ -28,6 +28,15 @@ pub enum Obstacle {
         axis: Vec<f64>,
         radius: f64,
     },
+    /// A rigid surface from a file (`-obstacle mesh`): Gmsh line (2D) or
+    /// triangle (3D) elements, or STL, closed and outward oriented; a
+    /// physical group of it, and the search distance beyond which a node
+    /// is no candidate (None: every node of the contact surface).
+    Mesh {
+        file: String,
+        group: Option<String>,
+        search: Option<f64>,
+    },
 }
 
 /// How each candidate's gap and normal are found (`-contact_normal`).

@@ -249,7 +249,10 @@ opt!(DENSITY: Given = "-density" "RHO", Given("required with -gravity"), "mass d
 opt!(CONTACT_SURFACE: Given = "-contact_surface" "NAME[,NAME2...]", Given("required"), "physical group(s) of the candidate contact surface Gamma_c (one obstacle)");
 opt!(CONTACT_DIRECTION: Given = "-contact_direction" "nx,ny[,nz]", Given("required with fixed normals, a plane or a halfball"), "unit contact direction n, toward the obstacle (a vector within 1e-3 of unit length is normalised)");
 opt!(CONTACT_NORMAL: Choice = "-contact_normal" "auto|fixed|closest", Choice { default: "auto", values: &["auto", "fixed", "closest"] }, "each candidate's gap and normal: fixed, along -contact_direction (the paper's); closest, from its closest point on the obstacle (every surface node a candidate); auto: fixed for a plane, closest for a ball, halfball or cylinder");
-opt!(OBSTACLE: Choice = "-obstacle" "plane|ball|halfball|cylinder", Choice { default: "required with a contact surface", values: &["plane", "ball", "halfball", "cylinder"] }, "rigid obstacle; ball: with fixed normals the candidates are the nodes whose line along n meets the ball; halfball: the half-ball standing on its flat face on a floor (the plane through the centre orthogonal to n), every surface node a candidate (the paper's 3D Gamma_c); cylinder: around -obstacle_axis through -obstacle_center (2D: the disc, as ball)");
+opt!(OBSTACLE: Choice = "-obstacle" "plane|ball|halfball|cylinder|mesh", Choice { default: "required with a contact surface", values: &["plane", "ball", "halfball", "cylinder", "mesh"] }, "rigid obstacle; ball: with fixed normals the candidates are the nodes whose line along n meets the ball; halfball: the half-ball standing on its flat face on a floor (the plane through the centre orthogonal to n), every surface node a candidate (the paper's 3D Gamma_c); cylinder: around -obstacle_axis through -obstacle_center (2D: the disc, as ball); mesh: the surface of -obstacle_mesh (closest-point normals)");
+opt!(OBSTACLE_MESH: Given = "-obstacle_mesh" "FILE", Given("required for mesh"), "the rigid surface of -obstacle mesh: Gmsh .msh 2.2 or 4.1 ASCII with line elements (2D) or triangles and quadrilaterals (3D), or STL (3D, ASCII or binary); closed and oriented with its normals outward (counter-clockwise in 2D; a surface oriented inward is a cavity, a seat); gaps and normals from each node's closest point (pseudo-normals at edges and vertices)");
+opt!(OBSTACLE_MESH_GROUP: Given = "-obstacle_mesh_group" "NAME", Given("every element of the surface's dimension"), "the physical group (name or number) of -obstacle_mesh that is the obstacle");
+opt!(OBSTACLE_SEARCH_DISTANCE: Given = "-obstacle_search_distance" "D", Given("none: every node of the contact surface"), "-obstacle mesh: a node farther than D from the surface is no candidate (it stays open)");
 opt!(OBSTACLE_POINT: Given = "-obstacle_point" "x,y[,z]", Given("required for plane"), "a point of the obstacle plane (orthogonal to n)");
 opt!(OBSTACLE_CENTER: Given = "-obstacle_center" "x,y[,z]", Given("required for ball, halfball, cylinder"), "centre of the obstacle ball (circle in 2D); for a cylinder, a point of its axis");
 opt!(OBSTACLE_AXIS: Given = "-obstacle_axis" "ax,ay,az", Given("required for a 3D cylinder"), "unit axis of the cylinder (3D only; a vector within 1e-3 of unit length is normalised)");
@@ -322,6 +325,9 @@ pub const ALL: &[&dyn Declared] = &[
     &OBSTACLE_POINT,
     &OBSTACLE_CENTER,
     &OBSTACLE_AXIS,
+    &OBSTACLE_MESH,
+    &OBSTACLE_MESH_GROUP,
+    &OBSTACLE_SEARCH_DISTANCE,
     &OBSTACLE_RADIUS,
     &FRICTION,
     &FRICTION_COEFFICIENT,
