@@ -17,6 +17,7 @@ use crate::progress;
 use crate::report::history::{step_path, StepRow};
 use crate::report::{self, files, ContactRow};
 use crate::solver::outcome;
+use crate::solver::ubr::Whole;
 use crate::solver::Problem;
 use crate::wellposed::Restraint;
 use mpi::traits::*;
@@ -240,7 +241,22 @@ impl<C: Communicator> ContactProblem<'_, C> {
                     fmt_factors(factors)
                 )
             });
-            problem.apply_load(factors, every || k == 0 || k + 1 == n)?;
+            // What of the step's whole displacement is wanted: u and the
+            // paper's change at the last step (and the first, a single
+            // solve's), u alone for a per-step output, else nothing.
+            let whole = if k == 0 || k + 1 == n {
+                Whole::WithChange
+            } else if every {
+                Whole::Only
+            } else {
+                Whole::No
+            };
+            let keep = match whole {
+                Whole::WithChange => 2,
+                Whole::Only => 1,
+                Whole::No => 0,
+            };
+            problem.apply_load(factors, keep)?;
             let sol = match last.take() {
                 None => {
                     let (state, solved) = outcome::solve(
@@ -275,7 +291,7 @@ impl<C: Communicator> ContactProblem<'_, C> {
                         &self.events,
                         &mut prev.state,
                         &s_prev,
-                        every || k + 1 == n,
+                        whole,
                     )?;
                     Solution {
                         state: prev.state,

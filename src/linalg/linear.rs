@@ -474,8 +474,8 @@ impl LinearSolver {
     /// contact unknowns `xd_c` and the owned Dirichlet dofs and values;
     /// condensed, `y0` at the assembled r given as `y0a` (a combination of
     /// [`LinearSolver::contact_part`]s), else from one solve with the
-    /// factors, which also prepares the expansion; then a dense solve where
-    /// r moved.
+    /// factors, which also prepares the expansion of `keep` columns; then a
+    /// dense solve where r moved.
     pub fn set_load(
         &mut self,
         surface: &Surface,
@@ -483,6 +483,7 @@ impl LinearSolver {
         xd_c: Vec<f64>,
         dirichlet: Vec<(usize, f64)>,
         y0a: Option<Vec<f64>>,
+        keep: usize,
     ) -> Result<(), Error> {
         self.rhs0.write(|b| b.copy_from_slice(rhs0))?;
         self.xd_c = xd_c;
@@ -505,7 +506,7 @@ impl LinearSolver {
                 self.solves += 1;
                 let mut y = vec![0.0; surface.len() * self.comps.len()];
                 if let Engine::Direct(d) = &mut self.engine {
-                    d.solve_contact_part(&self.world, rhs0, &mut y, 2)?;
+                    d.solve_contact_part(&self.world, rhs0, &mut y, keep)?;
                 }
                 y
             }

@@ -181,9 +181,11 @@ impl Problem {
     /// Moves the problem to the load of `factors` (one per group of the
     /// history): the load f, the Dirichlet values and the lifted
     /// right-hand side, on the same factorization.
-    /// `whole`: the step's whole displacement is wanted (condensed: the
-    /// solve that gives `y0` also prepares its expansion).
-    pub fn apply_load(&mut self, factors: &[f64], whole: bool) -> Result<(), Error> {
+    /// `keep`: the columns of the step's whole displacement wanted at its
+    /// end (condensed: the solve that gives `y0` prepares their expansion;
+    /// 0: `y0` is a combination of the parts' responses, no solve).
+    pub fn apply_load(&mut self, factors: &[f64], keep: usize) -> Result<(), Error> {
+        let whole = keep > 0;
         if !whole {
             self.part_responses()?;
         }
@@ -237,6 +239,7 @@ impl Problem {
             self.dirichlet.contact_values.clone(),
             self.dirichlet.dofs.clone(),
             y0a,
+            keep,
         )
     }
 

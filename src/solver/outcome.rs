@@ -131,7 +131,7 @@ pub fn control(settings: &Settings) -> ubr::UbrControl {
         anderson: u.anderson,
         drift_limit: f64::INFINITY,
         r_far: None,
-        displacement: true,
+        displacement: ubr::Whole::WithChange,
     }
 }
 
@@ -463,8 +463,8 @@ pub fn solve<C: Communicator>(
 /// One step of a load history (UBR): the algorithm on the problem's
 /// current load from `state`, the previous step's iterate (warm); CF-FP
 /// starts from `s_prev`, the previous step's bound nu_f |lambda_c|, where
-/// no `-tresca_bound` gives s^0; `displacement`: whether the step's whole
-/// displacement is wanted (condensed: else `state.u` keeps its last value).
+/// no `-tresca_bound` gives s^0; `displacement`: what of the step's whole
+/// displacement is wanted (condensed: [`ubr::Whole`]).
 #[allow(clippy::too_many_arguments)]
 pub fn solve_step<C: Communicator>(
     world: &C,
@@ -475,7 +475,7 @@ pub fn solve_step<C: Communicator>(
     events: &Events,
     state: &mut UbrState,
     s_prev: &[f64],
-    displacement: bool,
+    displacement: ubr::Whole,
 ) -> Result<Solved, Error> {
     let warm = Warm {
         s_prev,
@@ -497,7 +497,7 @@ pub fn solve_step<C: Communicator>(
 /// step's whole displacement is wanted.
 struct Warm<'a> {
     s_prev: &'a [f64],
-    displacement: bool,
+    displacement: ubr::Whole,
 }
 
 /// UBR-C, UBR-TF or CF-FP from `state`.
@@ -517,7 +517,9 @@ fn run<C: Communicator>(
     let ctl = ubr::UbrControl {
         drift_limit: drift_limit(world, restraint, &problem.contact),
         r_far: r_far(world, local, settings, problem),
-        displacement: warm.as_ref().is_none_or(|w| w.displacement),
+        displacement: warm
+            .as_ref()
+            .map_or(ubr::Whole::WithChange, |w| w.displacement),
         ..control(settings)
     };
     let s_prev = warm.map(|w| w.s_prev);

@@ -88,10 +88,20 @@ pub struct UbrControl {
     /// The trial r0 of `-ubr_r auto` where the user's r is more than
     /// [`R_FAR`] times away from it (a likely cause of a failure).
     pub r_far: Option<f64>,
-    /// Whether a condensed run computes the whole displacement at its end
-    /// (false: the steps of a load history whose displacement nothing
-    /// reads; `u` then keeps its last value).
-    pub displacement: bool,
+    /// What of the whole displacement a condensed run computes at its end.
+    pub displacement: Whole,
+}
+
+/// The whole displacement at the end of a condensed run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Whole {
+    /// None: `u` keeps its last value (the steps of a load history whose
+    /// displacement nothing reads).
+    No,
+    /// u^k alone (one column; the paper's change (4.16) is not computed).
+    Only,
+    /// u^{k-1} and u^k (two columns): u and the paper's change.
+    WithChange,
 }
 
 /// A user's r this many times above or below the trial r0 is far outside

@@ -5,7 +5,7 @@
 
 use super::measures::{z_weights, Maxima, Sums};
 use super::messages::{failure, r_far_words, stalled};
-use super::{UbrControl, UbrOutcome, DRIFT_ITS, INNER_FACTOR_MIN, TANGENTIAL_FLOOR};
+use super::{UbrControl, UbrOutcome, Whole, DRIFT_ITS, INNER_FACTOR_MIN, TANGENTIAL_FLOOR};
 use crate::comm::{allreduce_max, allreduce_max_n, allreduce_sum};
 use crate::contact::{project_normal, project_normal_z, project_tangential, project_tangential_z};
 use crate::error::Error;
@@ -773,8 +773,15 @@ impl<'a, C: Communicator> Run<'a, C> {
         let d = self.d;
         // A condensed run knows it at the contact nodes only (the paper's
         // candidates leave theirs).
-        let whole = self.ctl.displacement;
-        if self.lin.is_condensed() && !self.paper && whole {
+        let whole = self.ctl.displacement != Whole::No;
+        if self.lin.is_condensed() && !self.paper && self.ctl.displacement == Whole::Only {
+            // u^k alone (a step of a load history with outputs).
+            let x = self
+                .lin
+                .displacements(&self.surface, &[(&self.c, &self.uc)], true)?;
+            let u = &self.state.u;
+            x.read(|xx| u.write(|u| u.copy_from_slice(xx)))??;
+        } else if self.lin.is_condensed() && !self.paper && whole {
             // The paper's change (4.16)/(5.6) is reported in every mode: u^{k-1}
             // and u^k from one solve with two right-hand sides.
             // (From u_C alone: the equilibrium check of the answer then tests
