@@ -349,6 +349,9 @@ pub struct Forces {
     /// prescribed components exert: `K u - f + B^T W lambda` summed over
     /// them (a component prescribed by two groups counts for the first).
     pub reactions: Vec<(String, Vec<f64>)>,
+    /// Per obstacle (`-obstacles`; one, named "obstacle", without): its
+    /// name, the force it exerts on the body, and its nodes in contact.
+    pub obstacles: Vec<(String, Vec<f64>, usize)>,
 }
 
 impl Forces {
@@ -396,8 +399,16 @@ pub fn forces<C: Communicator>(
     let wanted: Vec<bool> = owner.iter().map(|&g| g != usize::MAX).collect();
     let mut r = fem::loads::stiffness_rows(local, settings, u_local, &wanted)?;
     let mut contact = vec![0.0; d];
+    let names: Vec<String> = settings
+        .contact
+        .as_ref()
+        .map(|c| c.obstacles.iter().map(|o| o.name.clone()).collect())
+        .unwrap_or_default();
+    // Per obstacle: its force (d values) and its nodes in contact.
+    let mut each = vec![0.0; names.len() * (d + 1)];
     for i in 0..cs.len() {
         let w = cs.w[i];
+        let k = cs.obstacle.get(i).copied().unwrap_or(0);
         for c in 0..d {
             let mut lam = st.surface.stress_n[i] * cs.n(i)[c];
             if p.tangential {
@@ -405,8 +416,25 @@ pub fn forces<C: Communicator>(
             }
             r[cs.node[i] * d + c] += w * lam;
             contact[c] -= w * lam;
+            if let Some(f) = each.get_mut(k * (d + 1) + c) {
+                *f -= w * lam;
+            }
+        }
+        if st.surface.in_contact[i] {
+            if let Some(n) = each.get_mut(k * (d + 1) + d) {
+                *n += 1.0;
+            }
         }
     }
+    let each = allreduce_sum_vec(world, &each);
+    let obstacles = names
+        .into_iter()
+        .enumerate()
+        .map(|(k, name)| {
+            let e = &each[k * (d + 1)..(k + 1) * (d + 1)];
+            (name, e[..d].to_vec(), e[d] as usize)
+        })
+        .collect();
     let mut sums = vec![0.0; d * (settings.dirichlet.len() + 1)];
     for (i, &g) in owner.iter().enumerate() {
         sums[i % d] += load[i];
@@ -425,6 +453,7 @@ pub fn forces<C: Communicator>(
             .enumerate()
             .map(|(g, bc)| (bc.group.clone(), sums[(g + 1) * d..(g + 2) * d].to_vec()))
             .collect(),
+        obstacles,
     })
 }
 

@@ -12,13 +12,14 @@ pub mod declared;
 pub mod files;
 pub mod history;
 pub mod inert;
+pub mod obstacles;
 pub mod outputs;
 pub mod solver;
 pub mod unused;
 
 use crate::error::{bad, Error};
 use crate::petsc;
-pub use choices::{Algorithm, LinearBackend, NormalMode, Obstacle, StopRule};
+pub use choices::{Algorithm, LinearBackend, NamedObstacle, NormalMode, Obstacle, StopRule};
 pub use declared::print_help;
 use declared::*;
 use mpi::traits::*;
@@ -97,6 +98,13 @@ pub struct ContactSettings {
     /// `-contact_normal`, `auto` resolved.
     pub normal: NormalMode,
     pub obstacle: Obstacle,
+    /// Every obstacle: `obstacle` alone (named "obstacle"), or those of
+    /// `-obstacles` (then `obstacle`, `normal` are the first's, for what
+    /// needs one point or one mode).
+    pub obstacles: Vec<NamedObstacle>,
+    /// Whether they come from `-obstacles` (their options are then
+    /// `-obstacle_NAME_...`).
+    pub named: bool,
 }
 
 impl ContactSettings {
@@ -369,6 +377,9 @@ fn contact(notes: &mut Vec<String>) -> Result<Option<ContactSettings>, Error> {
     let Some(surfaces) = CONTACT_SURFACE.words()? else {
         return Ok(None);
     };
+    if let Some(names) = OBSTACLES.words()? {
+        return obstacles::read(surfaces, names, notes).map(Some);
+    }
     let kind = match OBSTACLE.word_or_required()? {
         Some(k) => k,
         None => {
@@ -403,11 +414,19 @@ fn contact(notes: &mut Vec<String>) -> Result<Option<ContactSettings>, Error> {
             "note: -contact_direction does not set the gaps with closest normals (-contact_normal); it orients the Hertz comparison and the plots only".into(),
         );
     }
+    let obstacles = vec![NamedObstacle {
+        name: "obstacle".into(),
+        obstacle: obstacle.clone(),
+        direction: direction.clone(),
+        normal,
+    }];
     Ok(Some(ContactSettings {
         surfaces,
         direction,
         normal,
         obstacle,
+        obstacles,
+        named: false,
     }))
 }
 

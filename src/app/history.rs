@@ -344,6 +344,14 @@ impl<C: Communicator> ContactProblem<'_, C> {
             factors: h.factors[k].clone(),
             contact_force: forces.contact.clone(),
             reactions: forces.reactions.clone(),
+            obstacles: match forces.obstacles.len() {
+                1 => Vec::new(),
+                _ => forces
+                    .obstacles
+                    .iter()
+                    .map(|(n, f, _)| (n.clone(), f.clone()))
+                    .collect(),
+            },
             iterations: sol.solved.iterations,
             converged: sol.solved.converged,
             ..Default::default()

@@ -7,7 +7,7 @@ use crate::comm::allreduce_max;
 use crate::error::{bad, Error};
 use crate::fem::element::facet_weights;
 use crate::mesh::distribute::LocalMesh;
-use crate::options::{ContactSettings, NormalMode};
+use crate::options::{ContactSettings, NamedObstacle, NormalMode};
 pub use obstacle::{closest, gap, Obstacle};
 
 pub mod hertz;
@@ -40,6 +40,9 @@ pub struct ContactSet {
     /// A surface node on a ball's centre or a cylinder's axis (closest
     /// normals: no normal there), by its tag; the caller reports it.
     pub on_center: Option<u64>,
+    /// Each candidate's obstacle: its index in
+    /// `ContactSettings::obstacles` (the one of smallest gap).
+    pub obstacle: Vec<usize>,
 }
 
 impl ContactSet {
@@ -114,40 +117,19 @@ impl ContactSet {
                 d
             ));
         }
-        match &settings.obstacle {
-            Obstacle::Plane { point } if point.len() != d => {
-                return bad(format!(
-                    "option -obstacle_point: {} components given, the mesh is {}D",
-                    point.len(),
-                    d
-                ))
-            }
-            Obstacle::Ball { center, .. }
-            | Obstacle::HalfBall { center, .. }
-            | Obstacle::Cylinder { center, .. }
-                if center.len() != d =>
-            {
-                return bad(format!(
-                    "option -obstacle_center: {} components given, the mesh is {}D",
-                    center.len(),
-                    d
-                ))
-            }
-            _ => {}
+        let single = settings.obstacles.len() == 1;
+        let mut surfaces = Vec::with_capacity(settings.obstacles.len());
+        for o in &settings.obstacles {
+            check_dimensions(o, d, !settings.named)?;
+            surfaces.push(match &o.obstacle {
+                Obstacle::Mesh {
+                    file,
+                    group,
+                    search,
+                } => Some(read_surface(file, group.as_deref(), *search, d)?),
+                _ => None,
+            });
         }
-        if let Obstacle::Cylinder { axis, .. } = &settings.obstacle {
-            if d == 2 && !axis.is_empty() {
-                return bad("option -obstacle_axis: a 2D cylinder is the disc, it has no axis");
-            }
-        }
-        let surface = match &settings.obstacle {
-            Obstacle::Mesh {
-                file,
-                group,
-                search,
-            } => Some(read_surface(file, group.as_deref(), *search, d)?),
-            _ => None,
-        };
         let n = &settings.direction;
         // Weights of every owned node of the surface.
         let mut weight = vec![0.0; mesh.owned_count];
@@ -181,34 +163,89 @@ impl ContactSet {
         let mut set = ContactSet {
             dim: d,
             direction: n.clone(),
-            uniform: fixed || matches!(settings.obstacle, Obstacle::Plane { .. }),
+            uniform: single && (fixed || matches!(settings.obstacle, Obstacle::Plane { .. })),
             ..Default::default()
         };
         for v in 0..mesh.owned_count {
             if !on_surface[v] {
                 continue;
             }
-            let found = if let Some(s) = &surface {
-                // Farther than the search distance: no candidate.
-                s.closest(mesh.x(v)).map(|c| (c.gap, c.normal))
-            } else if fixed {
-                gap(mesh.x(v), n, &settings.obstacle).map(|g| (g, n.clone()))
-            } else {
-                let found = closest(mesh.x(v), n, &settings.obstacle);
-                if found.is_none() {
-                    set.on_center.get_or_insert(mesh.node_tag[v]);
+            // The obstacle of smallest gap (the first on a tie).
+            let mut best: Option<(f64, Vec<f64>, usize)> = None;
+            for (k, (o, surface)) in settings.obstacles.iter().zip(&surfaces).enumerate() {
+                let x = mesh.x(v);
+                let found = if let Some(s) = surface {
+                    // Farther than the search distance: no candidate.
+                    s.closest(x).map(|c| (c.gap, c.normal))
+                } else if o.normal == NormalMode::Fixed {
+                    gap(x, &o.direction, &o.obstacle).map(|g| (g, o.direction.clone()))
+                } else {
+                    let found = closest(x, &o.direction, &o.obstacle);
+                    if found.is_none() && single {
+                        set.on_center.get_or_insert(mesh.node_tag[v]);
+                    }
+                    found
+                };
+                if let Some((g, normal)) = found {
+                    if best.as_ref().is_none_or(|b| g < b.0) {
+                        best = Some((g, normal, k));
+                    }
                 }
-                found
-            };
-            if let Some((g, normal)) = found {
+            }
+            if let Some((g, normal, k)) = best {
                 set.node.push(v);
                 set.w.push(weight[v]);
                 set.g.push(g);
                 set.normal.extend(normal);
                 set.group.push(group_of[v]);
+                set.obstacle.push(k);
             }
         }
         Ok(set)
+    }
+}
+
+/// The obstacle's points against the mesh's dimension; `single`: the
+/// options are `-obstacle_point`, ..., else `-obstacle_NAME_point`, ...
+fn check_dimensions(o: &NamedObstacle, d: usize, single: bool) -> Result<(), Error> {
+    let opt = |key: &str| {
+        if single {
+            format!("-obstacle_{key}")
+        } else {
+            format!("-obstacle_{}_{key}", o.name)
+        }
+    };
+    if !single && !o.direction.is_empty() && o.direction.len() != d {
+        return bad(format!(
+            "option {}: {} components given, the mesh is {d}D",
+            opt("direction"),
+            o.direction.len()
+        ));
+    }
+    match &o.obstacle {
+        Obstacle::Plane { point } if point.len() != d => bad(format!(
+            "option {}: {} components given, the mesh is {}D",
+            opt("point"),
+            point.len(),
+            d
+        )),
+        Obstacle::Ball { center, .. }
+        | Obstacle::HalfBall { center, .. }
+        | Obstacle::Cylinder { center, .. }
+            if center.len() != d =>
+        {
+            bad(format!(
+                "option {}: {} components given, the mesh is {}D",
+                opt("center"),
+                center.len(),
+                d
+            ))
+        }
+        Obstacle::Cylinder { axis, .. } if d == 2 && !axis.is_empty() => bad(format!(
+            "option {}: a 2D cylinder is the disc, it has no axis",
+            opt("axis")
+        )),
+        _ => Ok(()),
     }
 }
 

@@ -39,6 +39,17 @@ pub enum Obstacle {
     },
 }
 
+/// One of several obstacles (`-obstacles`): its name, the obstacle, its
+/// fixed contact direction (toward it; empty with closest normals and none
+/// given) and how its candidates' gaps and normals are found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NamedObstacle {
+    pub name: String,
+    pub obstacle: Obstacle,
+    pub direction: Vec<f64>,
+    pub normal: NormalMode,
+}
+
 /// How each candidate's gap and normal are found (`-contact_normal`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum NormalMode {

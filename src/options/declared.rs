@@ -99,7 +99,7 @@ fn parse_real(name: &str, s: &str) -> Result<f64, Error> {
 }
 
 /// The value of `-name`, None when not given, an error when given empty.
-fn nonempty(name: &str) -> Result<Option<String>, Error> {
+pub fn nonempty(name: &str) -> Result<Option<String>, Error> {
     match raw(name)? {
         Some(s) if s.trim().is_empty() => bad(format!("option {name} needs a value")),
         other => Ok(other.map(|s| s.trim().to_string())),
@@ -250,6 +250,7 @@ opt!(CONTACT_SURFACE: Given = "-contact_surface" "NAME[,NAME2...]", Given("requi
 opt!(CONTACT_DIRECTION: Given = "-contact_direction" "nx,ny[,nz]", Given("required with fixed normals, a plane or a halfball"), "unit contact direction n, toward the obstacle (a vector within 1e-3 of unit length is normalised)");
 opt!(CONTACT_NORMAL: Choice = "-contact_normal" "auto|fixed|closest", Choice { default: "auto", values: &["auto", "fixed", "closest"] }, "each candidate's gap and normal: fixed, along -contact_direction (the paper's); closest, from its closest point on the obstacle (every surface node a candidate); auto: fixed for a plane, closest for a ball, halfball or cylinder");
 opt!(OBSTACLE: Choice = "-obstacle" "plane|ball|halfball|cylinder|mesh", Choice { default: "required with a contact surface", values: &["plane", "ball", "halfball", "cylinder", "mesh"] }, "rigid obstacle; ball: with fixed normals the candidates are the nodes whose line along n meets the ball; halfball: the half-ball standing on its flat face on a floor (the plane through the centre orthogonal to n), every surface node a candidate (the paper's 3D Gamma_c); cylinder: around -obstacle_axis through -obstacle_center (2D: the disc, as ball); mesh: the surface of -obstacle_mesh (closest-point normals)");
+opt!(OBSTACLES: Given = "-obstacles" "NAME1,NAME2,...", Given("none: one obstacle, -obstacle"), "several rigid obstacles, each NAME described by -obstacle_NAME KIND (plane|ball|halfball|cylinder|mesh) and -obstacle_NAME_point, _center, _radius, _axis, _direction (its fixed contact direction, toward it; required for a plane; default -contact_direction), _mesh, _mesh_group; each candidate is paired with the obstacle of smallest gap; the summary and the report give the force on each");
 opt!(OBSTACLE_MESH: Given = "-obstacle_mesh" "FILE", Given("required for mesh"), "the rigid surface of -obstacle mesh: Gmsh .msh 2.2 or 4.1 ASCII with line elements (2D) or triangles and quadrilaterals (3D), or STL (3D, ASCII or binary); closed and oriented with its normals outward (counter-clockwise in 2D; a surface oriented inward is a cavity, a seat); gaps and normals from each node's closest point (pseudo-normals at edges and vertices)");
 opt!(OBSTACLE_MESH_GROUP: Given = "-obstacle_mesh_group" "NAME", Given("every element of the surface's dimension"), "the physical group (name or number) of -obstacle_mesh that is the obstacle");
 opt!(OBSTACLE_SEARCH_DISTANCE: Given = "-obstacle_search_distance" "D", Given("none: every node of the contact surface"), "-obstacle mesh: a node farther than D from the surface is no candidate (it stays open)");
@@ -325,6 +326,7 @@ pub const ALL: &[&dyn Declared] = &[
     &OBSTACLE_POINT,
     &OBSTACLE_CENTER,
     &OBSTACLE_AXIS,
+    &OBSTACLES,
     &OBSTACLE_MESH,
     &OBSTACLE_MESH_GROUP,
     &OBSTACLE_SEARCH_DISTANCE,

@@ -32,6 +32,8 @@ pub struct StepRow {
     pub slip: usize,
     /// Each Dirichlet group's reaction (`dim` components).
     pub reactions: Vec<(String, Vec<f64>)>,
+    /// Each obstacle's force on the body, with several (`-obstacles`).
+    pub obstacles: Vec<(String, Vec<f64>)>,
     /// The curve's point: mean displacement of the group along its
     /// component, and the force on it.
     pub curve: (f64, f64),
@@ -51,6 +53,13 @@ pub fn csv(groups: &[String], dim: usize, curve: &str, rows: &[StepRow]) -> Stri
     for a in &axes[..dim] {
         out.push_str(&format!(",contact_force_{a}"));
     }
+    if let Some(first) = rows.first() {
+        for (name, _) in &first.obstacles {
+            for a in &axes[..dim] {
+                out.push_str(&format!(",contact_force_{name}_{a}"));
+            }
+        }
+    }
     out.push_str(",contact_area,contact_extent,peak_pressure,contact_nodes,stick,slip");
     if let Some(first) = rows.first() {
         for (name, _) in &first.reactions {
@@ -67,7 +76,11 @@ pub fn csv(groups: &[String], dim: usize, curve: &str, rows: &[StepRow]) -> Stri
         for f in &r.factors {
             let _ = write!(out, ",{f:e}");
         }
-        for f in &r.contact_force {
+        for f in r
+            .contact_force
+            .iter()
+            .chain(r.obstacles.iter().flat_map(|o| &o.1))
+        {
             let _ = write!(out, ",{f:e}");
         }
         let _ = write!(

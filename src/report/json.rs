@@ -65,6 +65,9 @@ pub struct Report {
     pub contact_force_groups: BTreeMap<String, f64>,
     /// The force the obstacle exerts on the body, `-sum w (lambda_n n + lambda_t)`.
     pub contact_force_vector: Vec<f64>,
+    /// Each obstacle (`-obstacles`; one named "obstacle" without): its
+    /// force on the body and its nodes in contact.
+    pub obstacles: Vec<ObstacleForce>,
     /// The applied loads (tractions, pressures, body force), summed.
     pub load: Vec<f64>,
     /// The reaction force of each Dirichlet group.
@@ -115,6 +118,14 @@ pub struct Report {
     pub inner_iterations: Vec<usize>,
     /// The warnings of the run (also on stderr), one line each.
     pub warnings: Vec<String>,
+}
+
+/// One obstacle's share of the contact force (the report's `obstacles`).
+#[derive(Serialize)]
+pub struct ObstacleForce {
+    pub name: String,
+    pub force: Vec<f64>,
+    pub contact_nodes: usize,
 }
 
 impl Report {
@@ -172,6 +183,16 @@ impl Report {
             tangential_force: m.totals.tangential_force.clone(),
             contact_force_groups: m.group_forces().into_iter().collect(),
             contact_force_vector: m.forces.contact.clone(),
+            obstacles: m
+                .forces
+                .obstacles
+                .iter()
+                .map(|(name, force, n)| ObstacleForce {
+                    name: name.clone(),
+                    force: force.clone(),
+                    contact_nodes: *n,
+                })
+                .collect(),
             load: m.forces.load.clone(),
             reactions: m.forces.reactions.iter().cloned().collect(),
             time_mesh: m.times.mesh,

@@ -288,6 +288,14 @@ fn contact(m: &Results) {
             t.in_contact, t.force
         );
     }
+    if m.forces.obstacles.len() > 1 {
+        for (name, force, n) in &m.forces.obstacles {
+            println!(
+                "                  obstacle {name}: force {}, {n} nodes in contact",
+                vector(force)
+            );
+        }
+    }
     let groups = m.group_forces();
     if groups.len() > 1 {
         let parts: Vec<String> = groups

@@ -316,6 +316,14 @@ fn number<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
 
 /// The keys of the JSON report (docs/DESIGN.md, "-report FILE.json") that
 /// the tests read. Counts are read as numbers (f64) like the other keys.
+/// One entry of the report's `obstacles`.
+#[derive(Clone, Debug, Deserialize)]
+pub struct ObstacleForce {
+    pub name: String,
+    pub force: Vec<f64>,
+    pub contact_nodes: usize,
+}
+
 #[derive(Clone, Debug, Deserialize)]
 pub struct Report {
     #[serde(deserialize_with = "number")]
@@ -383,6 +391,9 @@ pub struct Report {
     pub tangential_force: Vec<f64>,
     pub contact_force_groups: BTreeMap<String, f64>,
     pub contact_force_vector: Vec<f64>,
+    /// Each obstacle's force and nodes in contact (`-obstacles`).
+    #[serde(default)]
+    pub obstacles: Vec<ObstacleForce>,
     pub load: Vec<f64>,
     pub reactions: BTreeMap<String, Vec<f64>>,
     #[serde(deserialize_with = "number")]
