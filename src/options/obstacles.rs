@@ -90,9 +90,11 @@ fn one(
         ));
     }
     let normal = match (mode, kind.as_str()) {
-        ("fixed", "mesh") => return bad(format!(
+        ("fixed", "mesh") => {
+            return bad(format!(
             "option -contact_normal fixed: {head} mesh measures gaps to each node's closest point"
-        )),
+        ))
+        }
         ("fixed", _) | ("auto", "plane") => NormalMode::Fixed,
         _ => NormalMode::Closest,
     };
