@@ -122,6 +122,22 @@ fn hertz_2d_steps_are_single_solves_and_follow_hertz() {
             assert!((p - q).abs() < 1e-8 * p, "{ranks} ranks: {p} vs {q}");
         }
     }
+    // A step that does not converge ends the history (exit 3), named.
+    let run = mpirun(
+        2,
+        &[
+            "-options_file",
+            "options/hertz",
+            "-load_steps",
+            "5",
+            "-ubr_max_it",
+            "18",
+        ],
+    );
+    assert_eq!(run.status, Some(3), "{}", run.context());
+    let needle =
+        "not converged: load step 1/5 (-load_steps 5 0.2000): UBR-C stopped after 18 iterations";
+    assert!(run.stderr.contains(needle), "{}", run.context());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

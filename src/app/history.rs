@@ -302,6 +302,19 @@ impl<C: Communicator> ContactProblem<'_, C> {
             // Without a per-step output, a step's whole displacement, its
             // forces and rows are not made (the last step's are, by the run).
             let stop = !sol.solved.converged;
+            let mut sol = sol;
+            if stop {
+                // The run's failure names the step.
+                let why = sol.solved.failure();
+                sol.solved.failure = Some(format!(
+                    "load step {}/{n} ({} {}): {why}",
+                    k + 1,
+                    h.source,
+                    fmt_factors(factors)
+                ));
+                // (`failure()` puts a tension message first: it is in `why`.)
+                sol.solved.last.tension = 0.0;
+            }
             if every {
                 let row = self.step_row(local, problem, restraint, &sol, &curve, &h, k, t)?;
                 self.steps.push(row);

@@ -22,7 +22,7 @@
 use super::anderson::Anderson;
 use super::stopping::StopRule;
 use super::surface::{SurfaceState, UbrState};
-use super::ubr::{ubr, UbrControl, UbrOutcome};
+use super::ubr::{ubr, UbrControl, UbrOutcome, Whole};
 use super::Problem;
 use crate::comm::{allreduce_max_n, allreduce_sum};
 use crate::error::Error;
@@ -82,6 +82,17 @@ pub fn cf_fp<C: Communicator>(
         // at its final value would hold the first, frictionless, solve for
         // tens of iterations).
         let (inner, full_tolerance) = inner_control(ctl, m, paper);
+        // A history step that wants no displacement still gets it from
+        // the last allowed solve: a fixed point that fails there reports
+        // its state with the displacement that goes with it.
+        let inner = if m + 1 == fp_max_it && inner.displacement == Whole::No {
+            UbrControl {
+                displacement: Whole::Only,
+                ..inner
+            }
+        } else {
+            inner
+        };
         let run = ubr(world, problem, state, Some(&s), &inner, events)?;
         out.inner_iterations += run.iterations;
         out.fixed_point_iterations = m + 1;

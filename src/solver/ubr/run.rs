@@ -773,8 +773,14 @@ impl<'a, C: Communicator> Run<'a, C> {
         let d = self.d;
         // A condensed run knows it at the contact nodes only (the paper's
         // candidates leave theirs).
-        let whole = self.ctl.displacement != Whole::No;
-        if self.lin.is_condensed() && !self.paper && self.ctl.displacement == Whole::Only {
+        // (A run that did not converge reports its state: with its
+        // displacement, even where none was wanted.)
+        let mode = match self.ctl.displacement {
+            Whole::No if !self.out.converged => Whole::Only,
+            m => m,
+        };
+        let whole = mode != Whole::No;
+        if self.lin.is_condensed() && !self.paper && mode == Whole::Only {
             // u^k alone (a step of a load history with outputs).
             let x = self
                 .lin
