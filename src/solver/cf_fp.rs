@@ -49,6 +49,20 @@ pub struct CfFpOutcome {
     pub failure: Option<String>,
 }
 
+/// A history step that wants no displacement still gets it from the last
+/// allowed Tresca solve (`last`): a fixed point that fails there reports
+/// its state with the displacement that goes with it.
+fn last_makes_u(inner: UbrControl, last: bool) -> UbrControl {
+    if last && inner.displacement == Whole::No {
+        UbrControl {
+            displacement: Whole::Only,
+            ..inner
+        }
+    } else {
+        inner
+    }
+}
+
 /// Runs CF-FP from `s0` (one bound per owned candidate).
 #[allow(clippy::too_many_arguments)]
 pub fn cf_fp<C: Communicator>(
@@ -82,17 +96,7 @@ pub fn cf_fp<C: Communicator>(
         // at its final value would hold the first, frictionless, solve for
         // tens of iterations).
         let (inner, full_tolerance) = inner_control(ctl, m, paper);
-        // A history step that wants no displacement still gets it from
-        // the last allowed solve: a fixed point that fails there reports
-        // its state with the displacement that goes with it.
-        let inner = if m + 1 == fp_max_it && inner.displacement == Whole::No {
-            UbrControl {
-                displacement: Whole::Only,
-                ..inner
-            }
-        } else {
-            inner
-        };
+        let inner = last_makes_u(inner, m + 1 == fp_max_it);
         let run = ubr(world, problem, state, Some(&s), &inner, events)?;
         out.inner_iterations += run.iterations;
         out.fixed_point_iterations = m + 1;
