@@ -152,13 +152,7 @@ fn hertz_2d_steps_are_single_solves_and_follow_hertz() {
 fn hertz_3d_steps_follow_the_cube_root_law() {
     let dir = scratch("history-ball3d");
     let msh = dir.join("ballplate3d.msh");
-    let run = std::process::Command::new("gmsh")
-        .args(["-3", "-format", "msh41", "-o"])
-        .arg(&msh)
-        .arg(root().join("tests/normals/ballplate3d.geo"))
-        .output()
-        .expect("gmsh runs");
-    assert!(run.status.success(), "gmsh failed");
+    gmsh("-3", "tests/normals/ballplate3d.geo", &msh, &[]);
     let msh = msh.to_str().unwrap().to_string();
     let args = [
         "-mesh",
@@ -408,13 +402,7 @@ fn cattaneo_mindlin_stick_zone_and_hysteresis() {
 fn mindlin_3d_stick_zone() {
     let dir = scratch("history-mindlin");
     let msh = dir.join("halfplate3d.msh");
-    let run = std::process::Command::new("gmsh")
-        .args(["-3", "-format", "msh41", "-o"])
-        .arg(&msh)
-        .arg(root().join("tests/obstacles/halfplate3d.geo"))
-        .output()
-        .expect("gmsh runs");
-    assert!(run.status.success(), "gmsh failed");
+    gmsh("-3", "tests/obstacles/halfplate3d.geo", &msh, &[]);
     let table = dir.join("t.csv");
     std::fs::write(
         &table,

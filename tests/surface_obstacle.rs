@@ -5,23 +5,6 @@
 
 mod common;
 use common::*;
-use std::path::Path;
-use std::process::Command;
-
-fn gmsh(dim: &str, geo: &str, out: &Path, set: &[(&str, &str)]) {
-    let mut cmd = Command::new("gmsh");
-    cmd.args([dim, "-format", "msh41"]);
-    for (k, v) in set {
-        cmd.args(["-setnumber", k, v]);
-    }
-    let run = cmd
-        .arg("-o")
-        .arg(out)
-        .arg(root().join(geo))
-        .output()
-        .expect("gmsh runs");
-    assert!(run.status.success(), "gmsh failed on {geo}");
-}
 
 /// The quarter plate of tests/normals pressed onto a ball of radius 1
 /// centred (0,0,-1), at a tight tolerance.

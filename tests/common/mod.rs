@@ -74,6 +74,23 @@ pub fn gmsh_2d(name: &str, geo: &str) -> (PathBuf, String) {
     (dir, msh)
 }
 
+/// Meshes `geo` (relative to the repository) with gmsh into `out`, format
+/// 4.1: `dim` is "-1", "-2" or "-3", `set` the `-setnumber` pairs.
+pub fn gmsh(dim: &str, geo: &str, out: &Path, set: &[(&str, &str)]) {
+    let mut cmd = Command::new("gmsh");
+    cmd.args([dim, "-format", "msh41"]);
+    for (k, v) in set {
+        cmd.args(["-setnumber", k, v]);
+    }
+    let run = cmd
+        .arg("-o")
+        .arg(out)
+        .arg(root().join(geo))
+        .output()
+        .expect("gmsh runs (apt-get install gmsh)");
+    assert!(run.status.success() && out.exists(), "gmsh failed on {geo}");
+}
+
 pub struct Run {
     pub status: Option<i32>,
     pub stdout: String,
