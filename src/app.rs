@@ -422,11 +422,16 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     fn setup_contact(&mut self, local: &LocalMesh) -> Result<ContactSetup, Error> {
         let Some(contact) = &self.settings.contact else {
             return bad(
-                "option -contact_surface is required (a contact problem needs a candidate surface)",
+                "option -contact_surface is required (a contact problem needs a candidate surface; -contact_pair SLAVE,MASTER for two elastic bodies)",
             );
         };
         let mut cs = ContactSet::build(local, contact)?;
+        cs.add_pairs(self.world, local, contact)?;
+        let pairs = contact.pairs.clone();
         cs.settle(self.world)?;
+        if allreduce_count(self.world, cs.len()) == 0 && contact.surfaces.is_empty() {
+            return bad("option -contact_pair: no slave node faces its master surface (a slave node is a candidate where master segments cover at least half of its support)");
+        }
         if allreduce_count(self.world, cs.len()) == 0 {
             return bad(format!(
                 "option -contact_surface: surface '{}' has no candidate node facing the obstacle along the contact direction",
@@ -441,6 +446,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             self.warn(w);
         }
         let touches = touching::touching(self.world, local, &restraint.bodies, None);
+        let touches = touching::unpaired(self.world, local, &restraint.bodies, &pairs, touches);
         if let Some(w) = touching::warning(&restraint.bodies, &touches, false) {
             self.touched = true;
             self.warn(w);
@@ -578,7 +584,12 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let (world, s) = (self.world, &self.settings);
         progress::phase(false, || "checking the answer".into());
         let bound = checks::friction_bound(s, &sol.state, &sol.solved.bound);
-        let u_local = checks::local_displacement(local, &sol.state.u)?;
+        let pairs = s
+            .contact
+            .as_ref()
+            .map(|c| c.pairs.clone())
+            .unwrap_or_default();
+        let u_local = checks::local_displacement(local, &problem.physical(&sol.state.u)?)?;
         let forces = checks::forces(world, local, s, problem, &sol.state, &u_local)?;
         let diag = checks::diagnostics(world, problem, &sol.state, &bound)?.with_forces(&forces);
         let singular = checks::singular(problem, &diag, sol.solved.name, sol.solved.iterations);
@@ -590,6 +601,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         }
         if !self.touched {
             let touches = touching::touching(world, local, &restraint.bodies, Some(&u_local));
+            let touches = touching::unpaired(world, local, &restraint.bodies, &pairs, touches);
             if let Some(w) = touching::warning(&restraint.bodies, &touches, true) {
                 self.warn(w);
             }

@@ -402,20 +402,35 @@ pub fn forces<C: Communicator>(
     let names: Vec<String> = settings
         .contact
         .as_ref()
-        .map(|c| c.obstacles.iter().map(|o| o.name.clone()).collect())
+        .map(|c| {
+            let pairs = c.pairs.iter().map(|(s, m)| format!("{s}/{m}"));
+            c.obstacles
+                .iter()
+                .map(|o| o.name.clone())
+                .chain(pairs)
+                .collect()
+        })
         .unwrap_or_default();
-    // Per obstacle: its force (d values) and its nodes in contact.
+    // Per obstacle (and contact pair): its force (d values) and its nodes
+    // in contact. A pair's force is internal: on the slave here, its
+    // mortar share on the master below.
     let mut each = vec![0.0; names.len() * (d + 1)];
+    let mut slave_force = vec![0.0; if p.transform.is_some() { nown } else { 0 }];
     for i in 0..cs.len() {
         let w = cs.w[i];
         let k = cs.obstacle.get(i).copied().unwrap_or(0);
+        let paired = cs.pair.get(i).is_some_and(|&q| q != usize::MAX);
         for c in 0..d {
             let mut lam = st.surface.stress_n[i] * cs.n(i)[c];
             if p.tangential {
                 lam += st.surface.stress_t[i * d + c];
             }
-            r[cs.node[i] * d + c] += w * lam;
-            contact[c] -= w * lam;
+            if paired {
+                slave_force[cs.node[i] * d + c] += w * lam;
+            } else {
+                r[cs.node[i] * d + c] += w * lam;
+                contact[c] -= w * lam;
+            }
             if let Some(f) = each.get_mut(k * (d + 1) + c) {
                 *f -= w * lam;
             }
@@ -424,6 +439,14 @@ pub fn forces<C: Communicator>(
             if let Some(n) = each.get_mut(k * (d + 1) + d) {
                 *n += 1.0;
             }
+        }
+    }
+    if let Some(t) = &p.transform {
+        // On both sides: 2 F - T^T F (F on the slave, minus its share,
+        // T^T F - F, on the master).
+        let share = t.transpose_apply(&slave_force, d)?;
+        for (ri, (f, g)) in r.iter_mut().zip(slave_force.iter().zip(&share)) {
+            *ri += 2.0 * f - g;
         }
     }
     let each = allreduce_sum_vec(world, &each);

@@ -105,6 +105,9 @@ pub struct ContactSettings {
     /// Whether they come from `-obstacles` (their options are then
     /// `-obstacle_NAME_...`).
     pub named: bool,
+    /// `-contact_pair`: (slave, master) surface groups of two elastic
+    /// bodies ([`crate::contact::mortar`]).
+    pub pairs: Vec<(String, String)>,
 }
 
 impl ContactSettings {
@@ -374,11 +377,60 @@ fn loads() -> Result<
 /// a surface); a direction within [`UNIT_TOLERANCE`] of unit length is
 /// normalised, with a note.
 fn contact(notes: &mut Vec<String>) -> Result<Option<ContactSettings>, Error> {
+    let pairs = contact_pairs()?;
     let Some(surfaces) = CONTACT_SURFACE.words()? else {
+        return Ok(pairs.map(pairs_only));
+    };
+    let mut settings = obstacle_contact(surfaces, notes)?;
+    settings.pairs = pairs.unwrap_or_default();
+    Ok(Some(settings))
+}
+
+/// `-contact_pair`: (slave, master) pairs of surface groups.
+fn contact_pairs() -> Result<Option<Vec<(String, String)>>, Error> {
+    let Some(words) = CONTACT_PAIR.words()? else {
         return Ok(None);
     };
+    if words.len() % 2 != 0 {
+        return bad(format!(
+            "option -contact_pair: {} names given; pairs take two each (SLAVE,MASTER[,SLAVE2,MASTER2...])",
+            words.len()
+        ));
+    }
+    let pairs: Vec<(String, String)> = words
+        .chunks(2)
+        .map(|p| (p[0].clone(), p[1].clone()))
+        .collect();
+    if let Some(p) = pairs.iter().find(|p| p.0 == p.1) {
+        return bad(format!(
+            "option -contact_pair: '{}' is both the slave and the master surface of a pair",
+            p.0
+        ));
+    }
+    Ok(Some(pairs))
+}
+
+/// Contact between elastic bodies alone (no rigid obstacle): closest
+/// normals (each slave node's own), no obstacle.
+fn pairs_only(pairs: Vec<(String, String)>) -> ContactSettings {
+    ContactSettings {
+        surfaces: Vec::new(),
+        direction: Vec::new(),
+        normal: NormalMode::Closest,
+        obstacle: Obstacle::Plane { point: Vec::new() },
+        obstacles: Vec::new(),
+        named: false,
+        pairs,
+    }
+}
+
+/// The rigid obstacle(s) of `-contact_surface`.
+fn obstacle_contact(
+    surfaces: Vec<String>,
+    notes: &mut Vec<String>,
+) -> Result<ContactSettings, Error> {
     if let Some(names) = OBSTACLES.words()? {
-        return obstacles::read(surfaces, names, notes).map(Some);
+        return obstacles::read(surfaces, names, notes);
     }
     let kind = match OBSTACLE.word_or_required()? {
         Some(k) => k,
@@ -420,14 +472,15 @@ fn contact(notes: &mut Vec<String>) -> Result<Option<ContactSettings>, Error> {
         direction: direction.clone(),
         normal,
     }];
-    Ok(Some(ContactSettings {
+    Ok(ContactSettings {
         surfaces,
         direction,
         normal,
         obstacle,
         obstacles,
         named: false,
-    }))
+        pairs: Vec::new(),
+    })
 }
 
 /// `v` as a unit vector: within 1e-6 of unit length (digits of a typed

@@ -281,3 +281,51 @@ pub fn warning(bodies: &Bodies, touches: &[Touch], deformed: bool) -> Option<Str
         t.nodes
     ))
 }
+
+/// The touches left once the parts that a contact pair (`-contact_pair`,
+/// slave and master surface groups) joins are set aside: those touch on
+/// purpose. Collective.
+pub fn unpaired<C: Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    bodies: &Bodies,
+    pairs: &[(String, String)],
+    touches: Vec<Touch>,
+) -> Vec<Touch> {
+    if pairs.is_empty() || touches.is_empty() {
+        return touches;
+    }
+    let nb = bodies.len();
+    // joined[a * nb + b]: some pair's slave nodes lie in part a and its
+    // master nodes in part b.
+    let mut joined = vec![0.0; nb * nb];
+    let parts_of = |name: &str| -> Vec<usize> {
+        let mut parts: Vec<usize> = mesh
+            .group(name)
+            .map(|g| {
+                g.conn
+                    .nodes()
+                    .iter()
+                    .map(|&v| bodies.node_body[v])
+                    .collect()
+            })
+            .unwrap_or_default();
+        parts.sort_unstable();
+        parts.dedup();
+        parts
+    };
+    for (s, m) in pairs {
+        let (ps, pm) = (parts_of(s), parts_of(m));
+        for &a in &ps {
+            for &b in &pm {
+                joined[a * nb + b] = 1.0;
+                joined[b * nb + a] = 1.0;
+            }
+        }
+    }
+    let joined = crate::comm::allreduce_max_vec(world, &joined);
+    touches
+        .into_iter()
+        .filter(|t| joined[t.a * nb + t.b] == 0.0)
+        .collect()
+}

@@ -348,7 +348,7 @@ impl<C: Communicator> ContactProblem<'_, C> {
         let _ = restraint;
         let world = self.world;
         let s = &self.settings;
-        let u_local = checks::local_displacement(local, &sol.state.u)?;
+        let u_local = checks::local_displacement(local, &problem.physical(&sol.state.u)?)?;
         let forces = checks::forces(world, local, s, problem, &sol.state, &u_local)?;
         let rows = report::contact_rows(local, problem, &sol.state, &sol.solved.bound);
         let rows = report::gather_rows(world, &rows);

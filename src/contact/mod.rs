@@ -12,6 +12,7 @@ pub use obstacle::{closest, gap, Obstacle};
 
 pub mod hertz;
 pub mod mesh_obstacle;
+pub mod mortar;
 pub mod obstacle;
 pub mod surface;
 
@@ -41,8 +42,15 @@ pub struct ContactSet {
     /// normals: no normal there), by its tag; the caller reports it.
     pub on_center: Option<u64>,
     /// Each candidate's obstacle: its index in
-    /// `ContactSettings::obstacles` (the one of smallest gap).
+    /// `ContactSettings::obstacles` (the one of smallest gap); for the
+    /// slave node of a contact pair p, `obstacles.len() + p`.
     pub obstacle: Vec<usize>,
+    /// Each candidate's contact pair (`ContactSettings::pairs`), or
+    /// `usize::MAX` against a rigid obstacle.
+    pub pair: Vec<usize>,
+    /// A pair's slave node: its mortar row `P_kj` by master node (global
+    /// number, increasing); empty against a rigid obstacle.
+    pub mortar: Vec<Vec<(usize, f64)>>,
 }
 
 impl ContactSet {
@@ -199,9 +207,79 @@ impl ContactSet {
                 set.normal.extend(normal);
                 set.group.push(group_of[v]);
                 set.obstacle.push(k);
+                set.pair.push(usize::MAX);
+                set.mortar.push(Vec::new());
             }
         }
         Ok(set)
+    }
+
+    /// Whether a candidate is a contact pair's slave node.
+    pub fn has_pairs(&self) -> bool {
+        self.pair.iter().any(|&p| p != usize::MAX)
+    }
+
+    /// Adds the slave nodes of the contact pairs (`settings.pairs`) as
+    /// candidates, with their mortar rows ([`mortar`]); 2D.
+    pub fn add_pairs<C: mpi::traits::Communicator>(
+        &mut self,
+        world: &C,
+        mesh: &LocalMesh,
+        settings: &ContactSettings,
+    ) -> Result<(), Error> {
+        if settings.pairs.is_empty() {
+            return Ok(());
+        }
+        if mesh.dim != 2 {
+            return bad("option -contact_pair: contact between elastic bodies is 2D for now (the 3D mortar integration is not written yet)");
+        }
+        let (lo, hi) = (mesh.owned_start, mesh.owned_start + mesh.owned_count);
+        let taken: std::collections::HashSet<usize> = self.node.iter().copied().collect();
+        let (mut slaves, mut masters) = (Vec::new(), Vec::new());
+        for (p, (s, m)) in settings.pairs.iter().enumerate() {
+            let opt = "-contact_pair";
+            let slave = mortar::gather_segments(world, &mortar::local_segments(mesh, opt, s)?);
+            let master = mortar::gather_segments(world, &mortar::local_segments(mesh, opt, m)?);
+            for (name, segs) in [(s, &slave), (m, &master)] {
+                if segs.is_empty() {
+                    return bad(format!("option -contact_pair: group '{name}' has no line"));
+                }
+            }
+            let rows = mortar::mortar_rows(&slave, &master, |g| (lo..hi).contains(&g));
+            // (Decided on every rank: the first such node's tag.)
+            let twice = rows.iter().map(|r| r.node - lo).find(|v| taken.contains(v));
+            let twice = allreduce_max(world, twice.map_or(-1.0, |v| mesh.node_tag[v] as f64));
+            if twice >= 0.0 {
+                return bad(format!(
+                    "option -contact_pair: node {} of surface '{s}' is a candidate of -contact_surface too; a node meets one obstacle or one pair",
+                    twice as u64
+                ));
+            }
+            for r in rows {
+                let v = r.node - lo;
+                self.node.push(v);
+                self.w.push(r.w);
+                self.g.push(r.gap);
+                self.normal.extend(r.normal);
+                self.group.push(settings.surfaces.len() + p);
+                self.obstacle.push(settings.obstacles.len() + p);
+                self.pair.push(p);
+                self.mortar.push(r.row);
+            }
+            slaves.extend(slave.iter().flat_map(|g| g.nodes).map(|n| (n, s)));
+            masters.extend(master.iter().flat_map(|g| g.nodes).map(|n| (n, m)));
+        }
+        self.uniform = false;
+        let slave_of: std::collections::HashMap<usize, &String> = slaves.into_iter().collect();
+        if let Some((n, m)) = masters.iter().find(|(n, _)| slave_of.contains_key(n)) {
+            let v = mesh.node_global.iter().position(|g| g == n);
+            let tag = v.map_or(String::new(), |v| format!(" {}", mesh.node_tag[v]));
+            return bad(format!(
+                "option -contact_pair: node{tag} is on the slave surface '{}' and the master surface '{m}'; a node takes one side",
+                slave_of[n]
+            ));
+        }
+        Ok(())
     }
 }
 

@@ -66,6 +66,7 @@ pub fn read(
         obstacle: first.obstacle,
         obstacles,
         named: true,
+        pairs: Vec::new(),
     })
 }
 

@@ -412,6 +412,29 @@ impl Matrix {
         check(unsafe { sys::MatMult(self.raw, x.raw, y.raw) })
     }
 
+    /// `y = A^T x`.
+    pub fn mult_transpose(&self, x: &Vector, y: &Vector) -> Result<(), Error> {
+        // SAFETY: the three are live (PETSc checks their layouts).
+        check(unsafe { sys::MatMultTranspose(self.raw, x.raw, y.raw) })
+    }
+
+    /// The product `P^T A P` (a new matrix, collective).
+    pub fn ptap(&self, p: &Matrix) -> Result<Matrix, Error> {
+        ensure_running()?;
+        let mut raw: sys::Mat = std::ptr::null_mut();
+        // SAFETY: both are live; PETSc writes the new product into `raw`.
+        check(unsafe {
+            sys::MatPtAP(
+                self.raw,
+                p.raw,
+                sys::MAT_INITIAL_MATRIX,
+                sys::PETSC_DEFAULT as f64,
+                &mut raw,
+            )
+        })?;
+        Ok(Matrix { raw })
+    }
+
     /// Zeroes the given global rows and columns and puts `diag` on the diagonal.
     pub fn zero_rows_columns(&self, rows: &[sys::PetscInt], diag: f64) -> Result<(), Error> {
         let (n, none) = (rows.len() as sys::PetscInt, std::ptr::null_mut());

@@ -193,19 +193,26 @@ impl Results<'_> {
     }
 
     /// The contact force `sum w lambda_n` of each group of
-    /// `-contact_surface`, in its order (a group named twice counts once).
+    /// `-contact_surface`, in its order (a group named twice counts once),
+    /// then of each contact pair's slave surface.
     pub fn group_forces(&self) -> Vec<(String, f64)> {
-        let names = self
+        let names: Vec<&String> = self
             .settings
             .contact
             .as_ref()
-            .map_or(&[][..], |c| &c.surfaces[..]);
+            .map(|c| {
+                c.surfaces
+                    .iter()
+                    .chain(c.pairs.iter().map(|p| &p.0))
+                    .collect()
+            })
+            .unwrap_or_default();
         let mut out: Vec<(String, f64)> = Vec::with_capacity(names.len());
         for (k, name) in names.iter().enumerate() {
             let f = self.totals.group_force.get(k).copied().unwrap_or(0.0);
-            match out.iter_mut().find(|(n, _)| n == name) {
+            match out.iter_mut().find(|(n, _)| n == *name) {
                 Some((_, g)) => *g += f,
-                None => out.push((name.clone(), f)),
+                None => out.push(((*name).clone(), f)),
             }
         }
         out

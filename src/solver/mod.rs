@@ -11,6 +11,7 @@ pub mod anderson;
 pub mod cf_fp;
 pub mod deferred;
 pub mod history;
+pub mod mortar;
 pub mod outcome;
 pub mod penalty;
 pub mod seat;
@@ -112,9 +113,24 @@ pub struct Problem {
     pub matrix_mallocs: f64,
     /// The parts of the load of a history ([`history`]; None: one load).
     pub parts: Option<history::LoadParts>,
+    /// Contact pairs: the unknowns are `v` with `u = T v` ([`mortar`]).
+    pub transform: Option<mortar::Transform>,
 }
 
 impl Problem {
+    /// The displacement u of the unknowns `v` (a copy without a contact
+    /// pair).
+    pub fn physical(&self, v: &Vector) -> Result<Vector, Error> {
+        match &self.transform {
+            Some(t) => t.displacement(v),
+            None => {
+                let u = v.duplicate()?;
+                u.copy_from(v)?;
+                Ok(u)
+            }
+        }
+    }
+
     /// r of the UBR iteration (of the matrix, or of the condensed solver).
     pub fn r(&self) -> f64 {
         self.lin.r()
@@ -158,6 +174,7 @@ pub struct Assembled {
     pub matrix_mallocs: f64,
     pub time_assembly: f64,
     parts: Option<history::LoadParts>,
+    transform: Option<mortar::Transform>,
 }
 
 impl Problem {
@@ -179,8 +196,11 @@ impl Problem {
         let d = mesh.dim;
         let t0 = std::time::Instant::now();
         let guard = stages.assembly.push()?;
+        // (A pair's slave blocks act on the changed unknowns: added after
+        // the change, below.)
         let extra: Vec<(usize, Vec<f64>)> = match terms {
             ContactTerms::Ubr { tangential } => (0..contact.len())
+                .filter(|&i| contact.pair[i] == usize::MAX)
                 .map(|i| {
                     let block = contact_block(d, contact.n(i), r * contact.w[i], tangential);
                     (contact.node[i], block)
@@ -193,10 +213,24 @@ impl Problem {
         let el = fem::assemble_stiffness(comm, mesh, &adjacency, settings, &extra)?;
         let load_local = fem::loads::external_load(mesh, settings, &el.lumped_mass)?;
         let nown = mesh.owned_count * d;
-        let load = Vector::new(comm, nown, d)?;
+        let mut load = Vector::new(comm, nown, d)?;
         load.write(|f| f.copy_from_slice(&load_local))?;
+        let friction = settings.friction != crate::options::Friction::None;
+        let transform = mortar::Transform::build(world, mesh, &contact, &dirichlet, friction)?;
+        let mut matrix = el.stiffness;
+        if let Some(t) = &transform {
+            if settings.history.is_some() {
+                return crate::error::bad(
+                    "options -load_steps and -load_history: not yet with -contact_pair (one load)",
+                );
+            }
+            matrix = t.stiffness(&matrix)?;
+            load = t.load(&load)?;
+            if let ContactTerms::Ubr { tangential } = terms {
+                pair_blocks(mesh, &contact, &matrix, r, tangential)?;
+            }
+        }
         let mut dirichlet = Dirichlet::new(dirichlet, nown, &contact, d);
-        let matrix = el.stiffness;
         let named = history::split(mesh, settings, &matrix, &el.lumped_mass, &load)?;
         let rhs0 = eliminate(world, mesh, &matrix, &load, &mut dirichlet)?;
         let parts = history::finish(settings, named, &load, &rhs0, &dirichlet)?;
@@ -216,6 +250,7 @@ impl Problem {
             matrix_mallocs,
             time_assembly: t0.elapsed().as_secs_f64(),
             parts,
+            transform,
         })
     }
 
@@ -244,6 +279,7 @@ impl Problem {
             matrix_mallocs,
             time_assembly,
             parts,
+            transform,
         } = assembled;
         let d = mesh.dim;
         let tangential = terms == ContactTerms::Ubr { tangential: true };
@@ -293,8 +329,28 @@ impl Problem {
             time_factorization: t1.elapsed().as_secs_f64(),
             matrix_mallocs,
             parts,
+            transform,
         })
     }
+}
+
+/// The UBR blocks `r w n n^T` (or `r w I`) of the pairs' slave nodes, on
+/// the changed unknowns of `a` ([`mortar`]).
+fn pair_blocks(
+    mesh: &LocalMesh,
+    contact: &ContactSet,
+    a: &Matrix,
+    r: f64,
+    tangential: bool,
+) -> Result<(), Error> {
+    let d = mesh.dim;
+    for i in (0..contact.len()).filter(|&i| contact.pair[i] != usize::MAX) {
+        let block = contact_block(d, contact.n(i), r * contact.w[i], tangential);
+        let first = (mesh.owned_start + contact.node[i]) * d;
+        let idx: Vec<sys::PetscInt> = (0..d).map(|c| (first + c) as sys::PetscInt).collect();
+        a.add_values(&idx, &idx, &block)?;
+    }
+    a.assemble()
 }
 
 /// The lifted right-hand side `rhs0 = f - A x_D` (`diag_scale * x_D` on the

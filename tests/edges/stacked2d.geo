@@ -1,7 +1,8 @@
 // Two 2D blocks 0.1 x 0.05, meshed apart (no shared nodes): the upper one
 // rests on the lower one, or floats GAP above it (-setnumber gap G).
 // Issue "Trust at the edges", item 2. Physical groups: lower, upper,
-// bottom_lower, bottom_upper, top, left_lower, left_upper.
+// bottom_lower, bottom_upper, top, left_lower, left_upper, top_lower (the
+// lower block's top, for the contact pair of tests/pairs.rs).
 DefineConstant[ gap = 0 ];
 h = 0.01;
 Point(1) = {0, 0, 0, h}; Point(2) = {0.1, 0, 0, h};
@@ -19,3 +20,4 @@ Physical Curve("bottom_upper") = {5};
 Physical Curve("top") = {7};
 Physical Curve("left_lower") = {4};
 Physical Curve("left_upper") = {8};
+Physical Curve("top_lower") = {3};
