@@ -306,3 +306,61 @@ fn bad_pairs_are_refused() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Coulomb friction between the two blocks of the patch test, the upper one
+/// held in x by friction alone: a tangential traction 2 under the normal 10
+/// (nu_f = 0.3) is held, the friction forces balancing it, the friction law
+/// met at every slave node, and 1 and 2 ranks agree; at 4 the scene is
+/// refused before the solve (the friction cone cannot hold the load).
+#[test]
+fn coulomb_friction_between_the_blocks() {
+    let dir = scratch("pairs-coulomb");
+    let msh = mesh(&dir, "patch2d.geo", &[]);
+    let args = |t: &'static str| {
+        vec![
+            "-mesh".to_string(),
+            msh.clone(),
+            "-E".into(),
+            "1000".into(),
+            "-nu".into(),
+            "0.3".into(),
+            "-contact_pair".into(),
+            "slave,master".into(),
+            "-dirichlet_bottom".into(),
+            "uy=0".into(),
+            "-dirichlet_left_lower".into(),
+            "ux=0".into(),
+            "-traction_top".into(),
+            t.into(),
+            "-friction".into(),
+            "coulomb".into(),
+            "-friction_coefficient".into(),
+            "0.3".into(),
+            "-ubr_lambda_rtol".into(),
+            "1e-10".into(),
+        ]
+    };
+    let held = args("2,-10");
+    let held: Vec<&str> = held.iter().map(|s| s.as_str()).collect();
+    let (run, report, rows) = solve_rows("coulomb-1", 1, &held);
+    assert!(report.converged, "{}", run.stdout);
+    let (mut fx, mut fy) = (0.0, 0.0);
+    for r in &rows {
+        fx += r.weight * r.lambda_t[0];
+        fy += r.weight * r.lambda_n;
+        let lt = r.lambda_t[0].abs();
+        assert!(lt <= 0.3 * r.lambda_n * (1.0 + 1e-8), "{r:?}");
+        if r.status == "slip" {
+            assert!((lt - 0.3 * r.lambda_n).abs() < 1e-8 * 10.0, "{r:?}");
+        }
+    }
+    assert!((fy - 10.0).abs() < 1e-8 * 10.0, "normal force {fy}");
+    assert!((fx.abs() - 2.0).abs() < 1e-8 * 10.0, "friction force {fx}");
+    let (_, _, other) = solve_rows("coulomb-2", 2, &held);
+    let gap = max_tangential_gap(&rows, &other);
+    assert!(gap < 1e-8, "1 and 2 ranks differ by {gap:.3e}");
+    let slides = args("4,-10");
+    let slides: Vec<&str> = slides.iter().map(|s| s.as_str()).collect();
+    mpirun(2, &slides).refused("sliding", 2, &["friction"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
