@@ -441,7 +441,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let s = &self.settings;
         let dirichlet = crate::fem::dirichlet_dofs(local, &s.dirichlet)?;
         let friction = s.friction != Friction::None;
-        let restraint = wellposed::check(self.world, local, &dirichlet, &cs, friction)?;
+        let restraint = wellposed::check(self.world, local, &dirichlet, &cs, friction, &pairs)?;
         for w in checks::setup_warnings(self.world, local, s, &dirichlet, &cs)? {
             self.warn(w);
         }

@@ -21,6 +21,9 @@ use crate::mesh::distribute::LocalMesh;
 use crate::petsc::{self, sys, Gather, Vector};
 use mpi::traits::*;
 use nalgebra::{DMatrix, SymmetricEigen};
+use pairs::joined;
+
+mod pairs;
 
 /// A mode is free when its eigenvalue of the constraint Gram matrix is below
 /// this fraction of the matrix's trace (exactly free modes sit at round-off,
@@ -293,6 +296,8 @@ pub struct Restraint {
     /// conditions nor contact along n restrain it): a frictionless solve of
     /// the scene has no solution.
     pub friction_held: bool,
+    /// Each contact pair's master body (usize::MAX when unknown).
+    pub pair_master: Vec<usize>,
 }
 
 /// Checks that every rigid motion of every body is restrained, by Dirichlet
@@ -306,6 +311,7 @@ pub fn check<C: Communicator>(
     dirichlet: &[(usize, f64)],
     cs: &ContactSet,
     friction: bool,
+    pairs: &[(String, String)],
 ) -> Result<Restraint, Error> {
     let bodies = Bodies::find(world, mesh)?;
     let d = mesh.dim;
@@ -315,13 +321,6 @@ pub fn check<C: Communicator>(
     // k x k each, and the number of candidates.
     let per = 3 * k * k + 1;
     let mut g = vec![0.0; nb * per];
-    let add = |g: &mut [f64], row: &[f64]| {
-        for a in 0..k {
-            for b in 0..k {
-                g[a * k + b] += row[a] * row[b];
-            }
-        }
-    };
     let mut row = [0.0; 6];
     for &(dof, _) in dirichlet {
         let (v, c) = (dof / d, dof % d);
@@ -330,9 +329,12 @@ pub fn check<C: Communicator>(
         for j in 0..k {
             row[j] = basis[j][c];
         }
-        add(&mut g[b * per..b * per + k * k], &row[..k]);
+        add_outer(&mut g[b * per..b * per + k * k], &row[..k]);
     }
     for (i, &v) in cs.node.iter().enumerate() {
+        if cs.pair.get(i).is_some_and(|&p| p != usize::MAX) {
+            continue; // (a contact pair's rows: `joined` below)
+        }
         let n = cs.n(i);
         let b = bodies.node_body[v];
         let basis = bodies.basis(b, mesh.x(v));
@@ -340,7 +342,7 @@ pub fn check<C: Communicator>(
         for j in 0..k {
             row[j] = (0..d).map(|c| basis[j][c] * n[c]).sum();
         }
-        add(gc, &row[..k]);
+        add_outer(gc, &row[..k]);
         if friction {
             let normal = row;
             let gt = &mut g[b * per + 2 * k * k..b * per + 3 * k * k];
@@ -348,28 +350,63 @@ pub fn check<C: Communicator>(
                 for j in 0..k {
                     row[j] = basis[j][c] - normal[j] * n[c];
                 }
-                add(gt, &row[..k]);
+                add_outer(gt, &row[..k]);
             }
         }
         g[b * per + 3 * k * k] += 1.0;
     }
     let g = allreduce_sum_vec(world, &g);
+    let (joined, pair_master) = joined(world, mesh, &bodies, cs, friction, pairs);
+    let block = |b: usize, i: usize| {
+        DMatrix::from_row_slice(k, k, &g[b * per + i * k * k..b * per + (i + 1) * k * k])
+    };
+    // What the pairs add to each body: the rows of the pairs whose other
+    // body is held, until no body changes (a body that only a pair holds is
+    // held once its partner is).
+    let with_pairs = |b: usize, held: &[bool]| {
+        let (mut gn, mut gt, mut count) = (block(b, 1), block(b, 2), 0);
+        for j in joined.iter().filter(|j| j.body == b && held[j.other]) {
+            gn += &j.normal;
+            gt += &j.tangential;
+            count += j.candidates;
+        }
+        (gn, gt, count)
+    };
+    let mut held = vec![false; nb];
+    let mut changed = true;
+    while changed {
+        changed = false;
+        for b in 0..nb {
+            if held[b] {
+                continue;
+            }
+            let (gn, gt, _) = with_pairs(b, &held);
+            let all = block(b, 0) + gn + gt;
+            let scale = all.trace().max(f64::MIN_POSITIVE);
+            if null_space(&all, FREE_TOL * scale).is_empty() {
+                held[b] = true;
+                changed = true;
+            }
+        }
+    }
     let mut contact_held = Vec::new();
     let mut friction_held = false;
     for b in 0..nb {
-        let block = |i: usize| {
-            DMatrix::from_row_slice(k, k, &g[b * per + i * k * k..b * per + (i + 1) * k * k])
-        };
-        let (gd, gc, gt) = (block(0), block(1), block(2));
-        let candidates = g[b * per + 3 * k * k] as usize;
+        let (gd, (gc, gt, paired)) = (block(b, 0), with_pairs(b, &held));
+        let candidates = g[b * per + 3 * k * k] as usize + paired;
         let held_by_n = &gd + &gc;
         let all = &held_by_n + &gt;
         let scale = all.trace().max(f64::MIN_POSITIVE);
         let free = null_space(&all, FREE_TOL * scale);
         if !free.is_empty() {
-            return Err(Error::IllPosed(free_message(
-                &bodies, b, &free, candidates, friction, &gd,
-            )));
+            let message = free_message(&bodies, b, &free, candidates, friction, &gd);
+            // A contact pair holds a body only against one that is held.
+            let loose = joined.iter().any(|j| j.body == b && !held[j.other]);
+            return Err(Error::IllPosed(if loose {
+                format!("{message}; its contact pair (-contact_pair) joins it only to a body that is free as well: hold one of the two")
+            } else {
+                message
+            }));
         }
         friction_held |= friction && !null_space(&held_by_n, FREE_TOL * scale).is_empty();
         for coef in null_space(&gd, FREE_TOL * scale) {
@@ -380,7 +417,18 @@ pub fn check<C: Communicator>(
         bodies,
         contact_held,
         friction_held,
+        pair_master,
     })
+}
+
+/// `g += row row^T` (k x k, row-major).
+fn add_outer(g: &mut [f64], row: &[f64]) {
+    let k = row.len();
+    for a in 0..k {
+        for b in 0..k {
+            g[a * k + b] += row[a] * row[b];
+        }
+    }
 }
 
 /// Orthonormal eigenvectors of the symmetric `m` whose eigenvalues are below `tol`.
@@ -545,14 +593,27 @@ pub fn check_loads<C: Communicator>(
     for (i, &v) in cs.node.iter().enumerate() {
         let x = mesh.x(v);
         let rays = cone_rays(cs.n(i), d, coulomb);
+        // A contact pair's force acts on both bodies: on the master,
+        // opposite, at the node's image.
+        let master = cs
+            .pair
+            .get(i)
+            .and_then(|&p| restraint.pair_master.get(p))
+            .map(|&b| (b, &cs.image[i * d..(i + 1) * d]));
         for ray in &rays {
             for m in modes {
-                let a = if bodies.node_body[v] == m.body {
-                    let u = bodies.displacement(m, x);
+                let work = |at: &[f64]| {
+                    let u = bodies.displacement(m, at);
                     cs.w[i] * (0..d).map(|c| u[c] * ray[c]).sum::<f64>()
+                };
+                let mut a = if bodies.node_body[v] == m.body {
+                    work(x)
                 } else {
                     0.0
                 };
+                if let Some((_, image)) = master.filter(|&(b, _)| b == m.body) {
+                    a -= work(image);
+                }
                 cols.push(a);
             }
         }

@@ -364,3 +364,40 @@ fn coulomb_friction_between_the_blocks() {
     mpirun(2, &slides).refused("sliding", 2, &["friction"]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The roles swapped: the slave is the held lower block's top, the master
+/// the upper block, which only the pair holds (its y translation): the
+/// check of rigid motions and of the loads takes the master's share of
+/// the pair's rows once the slave's body is held, and the patch test is
+/// exact again (8 slave nodes at the pressure). Two blocks that hold each
+/// other and nothing else are refused, the message naming the pair.
+#[test]
+fn a_body_held_only_through_the_pair() {
+    let dir = scratch("pairs-swapped");
+    let msh = mesh(&dir, "patch2d.geo", &[]);
+    let vtk = dir.join("swapped.pvtu");
+    let mut a = patch_args(&msh, vtk.to_str().unwrap());
+    let at = a.iter().position(|s| s == "slave,master").unwrap();
+    a[at] = "master,slave".into();
+    let a: Vec<&str> = a.iter().map(|s| s.as_str()).collect();
+    for ranks in [1, 2] {
+        let (run, report, rows) = solve_rows(&format!("swapped-{ranks}"), ranks, &a);
+        assert!(report.converged, "{}", run.stdout);
+        assert_eq!(rows.len(), 8, "{}", run.stdout);
+        for r in &rows {
+            assert!((r.lambda_n - P).abs() < 1e-8 * P, "{r:?}");
+        }
+        let err = patch_field_error(vtk.to_str().unwrap());
+        assert!(err < 1e-8, "{ranks} ranks: displacement off by {err:.3e}");
+    }
+    // Without the lower block's support: neither block is held.
+    let free: Vec<&str> = a
+        .iter()
+        .copied()
+        .filter(|s| *s != "-dirichlet_bottom" && *s != "uy=0")
+        .collect();
+    for ranks in [1, 2] {
+        mpirun(ranks, &free).refused("floating pair", 2, &["translate along y", "-contact_pair"]);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -51,6 +51,9 @@ pub struct ContactSet {
     /// A pair's slave node: its mortar row `P_kj` by master node (global
     /// number, increasing); empty against a rigid obstacle.
     pub mortar: Vec<Vec<(usize, f64)>>,
+    /// A pair's slave node: its image on the master (`dim` values per
+    /// candidate, zero against a rigid obstacle).
+    pub image: Vec<f64>,
 }
 
 impl ContactSet {
@@ -209,6 +212,7 @@ impl ContactSet {
                 set.obstacle.push(k);
                 set.pair.push(usize::MAX);
                 set.mortar.push(Vec::new());
+                set.image.extend(std::iter::repeat_n(0.0, d));
             }
         }
         Ok(set)
@@ -265,6 +269,7 @@ impl ContactSet {
                 self.obstacle.push(settings.obstacles.len() + p);
                 self.pair.push(p);
                 self.mortar.push(r.row);
+                self.image.extend(r.point);
             }
             slaves.extend(slave.iter().flat_map(|g| g.nodes).map(|n| (n, s)));
             masters.extend(master.iter().flat_map(|g| g.nodes).map(|n| (n, m)));

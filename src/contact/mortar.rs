@@ -69,6 +69,8 @@ pub struct MortarNode {
     pub gap: f64,
     /// `P_kj` by master node (global number), increasing.
     pub row: Vec<(usize, f64)>,
+    /// The node's image on the master, `sum_j P_kj x_j`.
+    pub point: [f64; 2],
 }
 
 /// This rank's segments of the surface group `name` (2D lines), each once
@@ -338,6 +340,7 @@ pub fn mortar_rows(
                 normal,
                 gap: dot(normal, sub(proj, e.x)),
                 row,
+                point: proj,
             })
         })
         .collect();

@@ -290,8 +290,14 @@ fn contact(m: &Results) {
     }
     if m.forces.obstacles.len() > 1 {
         for (name, force, n) in &m.forces.obstacles {
+            // (A contact pair is named SLAVE/MASTER.)
+            let what = if name.contains('/') {
+                "contact pair"
+            } else {
+                "obstacle"
+            };
             println!(
-                "                  obstacle {name}: force {}, {n} nodes in contact",
+                "                  {what} {name}: force {}, {n} nodes in contact",
                 vector(force)
             );
         }

@@ -213,11 +213,14 @@ impl Problem {
         let el = fem::assemble_stiffness(comm, mesh, &adjacency, settings, &extra)?;
         let load_local = fem::loads::external_load(mesh, settings, &el.lumped_mass)?;
         let nown = mesh.owned_count * d;
-        let mut load = Vector::new(comm, nown, d)?;
+        let load = Vector::new(comm, nown, d)?;
         load.write(|f| f.copy_from_slice(&load_local))?;
         let friction = settings.friction != crate::options::Friction::None;
         let transform = mortar::Transform::build(world, mesh, &contact, &dirichlet, friction)?;
         let mut matrix = el.stiffness;
+        // The load on the unknowns (T^T f with a contact pair); `load` stays
+        // f, for the checks.
+        let mut changed_load = None;
         if let Some(t) = &transform {
             if settings.history.is_some() {
                 return crate::error::bad(
@@ -225,15 +228,16 @@ impl Problem {
                 );
             }
             matrix = t.stiffness(&matrix)?;
-            load = t.load(&load)?;
+            changed_load = Some(t.load(&load)?);
             if let ContactTerms::Ubr { tangential } = terms {
                 pair_blocks(mesh, &contact, &matrix, r, tangential)?;
             }
         }
         let mut dirichlet = Dirichlet::new(dirichlet, nown, &contact, d);
-        let named = history::split(mesh, settings, &matrix, &el.lumped_mass, &load)?;
-        let rhs0 = eliminate(world, mesh, &matrix, &load, &mut dirichlet)?;
-        let parts = history::finish(settings, named, &load, &rhs0, &dirichlet)?;
+        let rhs_load = changed_load.as_ref().unwrap_or(&load);
+        let named = history::split(mesh, settings, &matrix, &el.lumped_mass, rhs_load)?;
+        let rhs0 = eliminate(world, mesh, &matrix, rhs_load, &mut dirichlet)?;
+        let parts = history::finish(settings, named, rhs_load, &rhs0, &dirichlet)?;
         matrix.set_spd()?;
         let matrix_mallocs = matrix.stats()?.mallocs;
         drop(guard);

@@ -1,0 +1,120 @@
+//! The rows of the contact pairs (`-contact_pair`) in the check of rigid
+//! motions ([`super::check`]): a pair restrains each of its two bodies once
+//! the other is held.
+
+use super::{add_outer, modes, Bodies};
+use crate::comm::{allreduce_max_vec, allreduce_sum_vec};
+use crate::contact::ContactSet;
+use crate::mesh::distribute::LocalMesh;
+use mpi::traits::*;
+use nalgebra::DMatrix;
+
+/// What a contact pair's rows restrain on one of its two bodies, once the
+/// other body is held: the slave's rows at its nodes, the master's at the
+/// nodes' images (`sum_j P_kj x_j`: rigid motions are affine, so the row
+/// `sum_j P_kj n . m(x_j)` is `n . m(image)`).
+pub(super) struct Joined {
+    pub(super) body: usize,
+    pub(super) other: usize,
+    pub(super) normal: DMatrix<f64>,
+    pub(super) tangential: DMatrix<f64>,
+    pub(super) candidates: usize,
+}
+
+/// The rows of every contact pair, by body ([`Joined`]); a pair's master
+/// body is the one its master surface's nodes lie in (the last where it
+/// spans several). Collective.
+pub(super) fn joined<C: Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    bodies: &Bodies,
+    cs: &ContactSet,
+    friction: bool,
+    pairs: &[(String, String)],
+) -> (Vec<Joined>, Vec<usize>) {
+    let (d, k, nb) = (mesh.dim, modes(mesh.dim), bodies.len());
+    let np = pairs.len();
+    if np == 0 {
+        return (Vec::new(), Vec::new());
+    }
+    let body_of = |name: &str| -> f64 {
+        mesh.group(name).map_or(-1.0, |g| {
+            let nodes = g.conn.nodes();
+            nodes
+                .iter()
+                .map(|&v| bodies.node_body[v] as f64)
+                .fold(-1.0, f64::max)
+        })
+    };
+    let sides: Vec<f64> = pairs
+        .iter()
+        .flat_map(|(s, m)| [body_of(s), body_of(m)])
+        .collect();
+    let sides = allreduce_max_vec(world, &sides);
+    // Per pair: slave normal, slave tangential, master normal, master
+    // tangential (k x k each), and the candidates.
+    let per = 4 * k * k + 1;
+    let mut g = vec![0.0; np * per];
+    let mut row = [0.0; 6];
+    for (i, &v) in cs.node.iter().enumerate() {
+        let p = cs.pair[i];
+        if p == usize::MAX || sides[2 * p + 1] < 0.0 {
+            continue;
+        }
+        let n = cs.n(i);
+        let master = sides[2 * p + 1] as usize;
+        let image = &cs.image[i * d..(i + 1) * d];
+        for (side, body, x) in [(0, bodies.node_body[v], mesh.x(v)), (2, master, image)] {
+            let basis = bodies.basis(body, x);
+            let at = p * per + side * k * k;
+            for j in 0..k {
+                row[j] = (0..d).map(|c| basis[j][c] * n[c]).sum();
+            }
+            add_outer(&mut g[at..at + k * k], &row[..k]);
+            if friction {
+                let normal = row;
+                for c in 0..d {
+                    for j in 0..k {
+                        row[j] = basis[j][c] - normal[j] * n[c];
+                    }
+                    add_outer(&mut g[at + k * k..at + 2 * k * k], &row[..k]);
+                }
+            }
+        }
+        g[p * per + 4 * k * k] += 1.0;
+    }
+    let g = allreduce_sum_vec(world, &g);
+    let m = |p: usize, i: usize| {
+        DMatrix::from_row_slice(k, k, &g[p * per + i * k * k..p * per + (i + 1) * k * k])
+    };
+    let mut out = Vec::new();
+    for p in 0..np {
+        let (s, ms) = (sides[2 * p], sides[2 * p + 1]);
+        if s < 0.0 || ms < 0.0 || s as usize >= nb || ms as usize >= nb {
+            continue;
+        }
+        let candidates = g[p * per + 4 * k * k] as usize;
+        let (s, ms) = (s as usize, ms as usize);
+        out.push(Joined {
+            body: s,
+            other: ms,
+            normal: m(p, 0),
+            tangential: m(p, 1),
+            candidates,
+        });
+        out.push(Joined {
+            body: ms,
+            other: s,
+            normal: m(p, 2),
+            tangential: m(p, 3),
+            candidates: 0,
+        });
+    }
+    let masters = (0..np)
+        .map(|p| match sides[2 * p + 1] {
+            m if m >= 0.0 && (m as usize) < nb => m as usize,
+            _ => usize::MAX,
+        })
+        .collect();
+    (out, masters)
+}
