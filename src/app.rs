@@ -691,9 +691,38 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         }
         if let Some(path) = &s.vtk {
             let rows = report::broadcast_rows(world, &checked.rows);
-            let vtk = files::write_vtk(world, path, s, local, &checked.u_local, &rows);
+            let master = master_traction(world, local, s, problem, &sol.state)?;
+            let vtk = files::write_vtk(
+                world,
+                path,
+                (s, local),
+                &checked.u_local,
+                &rows,
+                master.as_deref(),
+            );
             written = written.and(vtk);
         }
         files::collective(world, written)
     }
+}
+
+/// With contact pairs: their traction on the master nodes, by node tag
+/// (the VTU field `master_traction`).
+fn master_traction<C: Communicator>(
+    world: &C,
+    local: &LocalMesh,
+    s: &Settings,
+    problem: &Problem,
+    state: &crate::solver::surface::UbrState,
+) -> Result<Option<Vec<(u64, f64)>>, Error> {
+    let Some(t) = &problem.transform else {
+        return Ok(None);
+    };
+    let masters: Vec<&str> = s
+        .contact
+        .as_ref()
+        .map(|c| c.pairs.iter().map(|p| p.1.as_str()).collect())
+        .unwrap_or_default();
+    let f = checks::slave_forces(local, problem, state);
+    t.master_traction(world, local, &f, &masters).map(Some)
 }

@@ -338,6 +338,26 @@ pub fn local_displacement(local: &LocalMesh, u: &Vector) -> Result<Vec<f64>, Err
     gather.local.read(|v| v.to_vec())
 }
 
+/// The contact pairs' forces on their slave nodes (`w (lambda_n n +
+/// lambda_t)`, this rank's owned dofs; empty without a pair).
+pub fn slave_forces(local: &LocalMesh, p: &Problem, st: &UbrState) -> Vec<f64> {
+    let (d, cs) = (p.dim, &p.contact);
+    if p.transform.is_none() {
+        return Vec::new();
+    }
+    let mut f = vec![0.0; local.owned_count * d];
+    for i in (0..cs.len()).filter(|&i| cs.pair[i] != usize::MAX) {
+        for c in 0..d {
+            let mut lam = st.surface.stress_n[i] * cs.n(i)[c];
+            if p.tangential {
+                lam += st.surface.stress_t[i * d + c];
+            }
+            f[cs.node[i] * d + c] += cs.w[i] * lam;
+        }
+    }
+    f
+}
+
 /// The forces on the body, summed over all ranks.
 #[derive(Clone, Debug, Default)]
 pub struct Forces {

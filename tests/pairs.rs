@@ -62,10 +62,22 @@ fn patch_args(msh: &str, vtk: &str) -> Vec<String> {
 
 /// The largest distance of the VTU's displacement from the single block's
 /// (plane strain, sigma_yy = -P, sigma_xx = 0: u_x = nu (1 + nu) P x / E,
-/// u_y = -(1 - nu^2) P y / E), relative to the largest displacement.
+/// u_y = -(1 - nu^2) P y / E), relative to the largest displacement; and
+/// the master side's traction (`master_traction`, the mortar share of the
+/// slave's pressure): its nodes and largest distance from P, relative.
 fn patch_field_error(pvtu: &str) -> f64 {
+    let (err, masters, master_err) = patch_fields(pvtu);
+    assert!(masters >= 6, "{masters} master nodes with a traction");
+    assert!(
+        master_err < 1e-8,
+        "master traction off P by {master_err:.3e}"
+    );
+    err
+}
+
+fn patch_fields(pvtu: &str) -> (f64, usize, f64) {
     let script = format!(
-        "import sys, vtk\nr = vtk.vtkXMLPUnstructuredGridReader()\nr.SetFileName(sys.argv[1])\nr.Update()\ng = r.GetOutput()\nd = g.GetPointData().GetArray('displacement')\nE, nu, p = {E}, {NU}, {P}\nerr, big = 0.0, 0.0\nfor i in range(g.GetNumberOfPoints()):\n    x, y, _ = g.GetPoint(i)\n    ux, uy = nu * (1 + nu) * p * x / E, -(1 - nu * nu) * p * y / E\n    u = d.GetTuple3(i)\n    err = max(err, abs(u[0] - ux), abs(u[1] - uy))\n    big = max(big, abs(ux), abs(uy))\nprint(g.GetNumberOfPoints(), err / big)\n"
+        "import sys, vtk\nr = vtk.vtkXMLPUnstructuredGridReader()\nr.SetFileName(sys.argv[1])\nr.Update()\ng = r.GetOutput()\nd = g.GetPointData().GetArray('displacement')\nE, nu, p = {E}, {NU}, {P}\nerr, big = 0.0, 0.0\nfor i in range(g.GetNumberOfPoints()):\n    x, y, _ = g.GetPoint(i)\n    ux, uy = nu * (1 + nu) * p * x / E, -(1 - nu * nu) * p * y / E\n    u = d.GetTuple3(i)\n    err = max(err, abs(u[0] - ux), abs(u[1] - uy))\n    big = max(big, abs(ux), abs(uy))\nm = g.GetPointData().GetArray('master_traction')\nmt = [m.GetValue(i) for i in range(g.GetNumberOfPoints()) if m.GetValue(i) != 0.0]\nprint(err / big, len(mt), max(abs(v - p) / p for v in mt))\n"
     );
     let py = std::process::Command::new(python())
         .arg("-c")
@@ -76,11 +88,15 @@ fn patch_field_error(pvtu: &str) -> f64 {
     let text = String::from_utf8_lossy(&py.stdout).to_string();
     let f: Vec<&str> = text.split_whitespace().collect();
     assert!(
-        py.status.success() && f.len() == 2,
+        py.status.success() && f.len() == 3,
         "{text}\n{}",
         String::from_utf8_lossy(&py.stderr)
     );
-    f[1].parse().unwrap()
+    (
+        f[0].parse().unwrap(),
+        f[1].parse().unwrap(),
+        f[2].parse().unwrap(),
+    )
 }
 
 #[test]

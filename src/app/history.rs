@@ -391,7 +391,7 @@ impl<C: Communicator> ContactProblem<'_, C> {
         if let Some(path) = &s.vtk {
             let rows = report::broadcast_rows(world, &rows);
             let step = step_path(path, k + 1);
-            let written = files::write_vtk(world, &step, s, local, &u_local, &rows);
+            let written = files::write_vtk(world, &step, (s, local), &u_local, &rows, None);
             files::collective(world, written)?;
         }
         row.time = t.elapsed().as_secs_f64();

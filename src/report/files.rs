@@ -292,11 +292,20 @@ struct PieceData {
     traction: Vec<f64>,
     gap: Vec<f64>,
     status: Vec<i32>,
+    /// With contact pairs: the traction the slaves put on the master
+    /// nodes (0 elsewhere).
+    master: Option<Vec<f64>>,
 }
 
 /// The cells this rank writes with their stresses, and the point fields at
 /// its local nodes (`rows`: every candidate, on every rank).
-fn piece_data(s: &Settings, local: &LocalMesh, u_local: &[f64], rows: &[ContactRow]) -> PieceData {
+fn piece_data(
+    s: &Settings,
+    local: &LocalMesh,
+    u_local: &[f64],
+    rows: &[ContactRow],
+    master: Option<&[(u64, f64)]>,
+) -> PieceData {
     let d = local.dim;
     let k = d + 1;
     // Cells this rank writes.
@@ -346,6 +355,12 @@ fn piece_data(s: &Settings, local: &LocalMesh, u_local: &[f64], rows: &[ContactR
         traction: vec![0.0; npts * 3],
         gap: vec![0.0; npts],
         status: vec![-1i32; npts],
+        master: master.map(|m| {
+            let by_tag: std::collections::HashMap<u64, f64> = m.iter().copied().collect();
+            (0..npts)
+                .map(|v| by_tag.get(&local.node_tag[v]).copied().unwrap_or(0.0))
+                .collect()
+        }),
     };
     for v in 0..npts {
         out.disp[v * 3..v * 3 + d].copy_from_slice(&u_local[v * d..(v + 1) * d]);
@@ -360,16 +375,18 @@ fn piece_data(s: &Settings, local: &LocalMesh, u_local: &[f64], rows: &[ContactR
 }
 
 /// `-vtk`: `FILE.vtu` (one file, gathered on rank 0) or `PATH.pvtu` (an
-/// index and a piece per rank). Both carry the node tag of the mesh file.
+/// index and a piece per rank). Both carry the node tag of the mesh file;
+/// `master`: the contact pairs' traction on the master nodes, by node tag
+/// (the field `master_traction`).
 pub fn write_vtk<C: Communicator>(
     world: &C,
     path: &str,
-    s: &Settings,
-    local: &LocalMesh,
+    (s, local): (&Settings, &LocalMesh),
     u_local: &[f64],
     rows: &[ContactRow],
+    master: Option<&[(u64, f64)]>,
 ) -> Result<(), Error> {
-    let data = piece_data(s, local, u_local, rows);
+    let data = piece_data(s, local, u_local, rows, master);
     let rank = world.rank();
     let ranks = vec![rank; data.von_mises.len()];
     if path.ends_with(".vtu") {
@@ -413,14 +430,18 @@ pub fn write_vtk<C: Communicator>(
 }
 
 fn point_fields<'a>(p: &'a PieceData, tags: &'a [u64]) -> Vec<Field<'a>> {
-    vec![
+    let mut fields = vec![
         Field::Vector("displacement", &p.disp),
         Field::Scalar("contact_pressure", &p.pressure),
         Field::Vector("tangential_traction", &p.traction),
         Field::Scalar("gap", &p.gap),
         Field::Int("contact_status", &p.status),
         Field::Id("node_tag", tags),
-    ]
+    ];
+    if let Some(m) = &p.master {
+        fields.push(Field::Scalar("master_traction", m));
+    }
+    fields
 }
 
 fn cell_fields<'a>(p: &'a PieceData, ranks: &'a [i32]) -> Vec<Field<'a>> {
@@ -469,6 +490,7 @@ fn write_gathered<C: Communicator>(
     let pressure = gather(world, &data.pressure[..own]);
     let gap = gather(world, &data.gap[..own]);
     let status = gather(world, &data.status[..own]);
+    let master = data.master.as_ref().map(|m| gather(world, &m[..own]));
     let cells = gather(world, &cells);
     let sizes: Vec<u64> = data
         .offsets
@@ -502,6 +524,7 @@ fn write_gathered<C: Communicator>(
         traction,
         gap,
         status,
+        master,
     };
     let piece = Piece {
         dim: d,

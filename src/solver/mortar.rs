@@ -111,6 +111,50 @@ impl Transform {
         y.read(|v| v.to_vec())
     }
 
+    /// The traction that the pairs' slaves put on the master nodes: the
+    /// magnitude of the mortar share `T^T F - F` of the slave forces `F`
+    /// (`f_slave`, this rank's owned dofs), over the node's weight on the
+    /// master surfaces (`int N_j`); by node tag, from every rank.
+    pub fn master_traction<C: mpi::traits::Communicator>(
+        &self,
+        world: &C,
+        mesh: &LocalMesh,
+        f_slave: &[f64],
+        masters: &[&str],
+    ) -> Result<Vec<(u64, f64)>, Error> {
+        let d = mesh.dim;
+        let share = self.transpose_apply(f_slave, d)?;
+        let mut weight = vec![0.0; mesh.owned_count];
+        let mut seen = std::collections::HashSet::new();
+        let mut w = Vec::with_capacity(4);
+        for g in masters.iter().filter_map(|name| mesh.group(name)) {
+            for e in &g.conn {
+                let mut key = e.to_vec();
+                key.sort_unstable();
+                if !seen.insert(key) {
+                    continue;
+                }
+                let pts: Vec<&[f64]> = e.iter().map(|&v| mesh.x(v)).collect();
+                crate::element::facet_weights(&pts, &mut w);
+                for (&v, &wv) in e.iter().zip(&w) {
+                    if mesh.is_owned(v) {
+                        weight[v] += wv;
+                    }
+                }
+            }
+        }
+        let mut mine = Vec::new();
+        for (v, &wv) in weight.iter().enumerate().filter(|(_, &wv)| wv > 0.0) {
+            let f: f64 = (0..d)
+                .map(|c| (share[v * d + c] - f_slave[v * d + c]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            mine.extend([mesh.node_tag[v] as f64, f / wv]);
+        }
+        let all = crate::comm::Layout::new(world, mine.len()).all_gather(world, &mine);
+        Ok(all.chunks(2).map(|p| (p[0] as u64, p[1])).collect())
+    }
+
     /// `u = T v` into a new vector.
     pub fn displacement(&self, v: &Vector) -> Result<Vector, Error> {
         let out = v.duplicate()?;
