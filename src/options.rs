@@ -14,6 +14,7 @@ pub mod history;
 pub mod inert;
 pub mod obstacles;
 pub mod outputs;
+mod pairs;
 pub mod solver;
 pub mod unused;
 
@@ -108,6 +109,8 @@ pub struct ContactSettings {
     /// `-contact_pair`: (slave, master) surface groups of two elastic
     /// bodies ([`crate::contact::mortar`]).
     pub pairs: Vec<(String, String)>,
+    /// `-contact_pair_scheme node_to_segment` (not the mortar).
+    pub pair_node_to_segment: bool,
 }
 
 impl ContactSettings {
@@ -377,51 +380,18 @@ fn loads() -> Result<
 /// a surface); a direction within [`UNIT_TOLERANCE`] of unit length is
 /// normalised, with a note.
 fn contact(notes: &mut Vec<String>) -> Result<Option<ContactSettings>, Error> {
-    let pairs = contact_pairs()?;
+    let pairs = pairs::contact_pairs()?;
+    let nts = CONTACT_PAIR_SCHEME.get()? == "node_to_segment";
     let Some(surfaces) = CONTACT_SURFACE.words()? else {
-        return Ok(pairs.map(pairs_only));
+        return Ok(pairs.map(|p| ContactSettings {
+            pair_node_to_segment: nts,
+            ..pairs::pairs_only(p)
+        }));
     };
     let mut settings = obstacle_contact(surfaces, notes)?;
     settings.pairs = pairs.unwrap_or_default();
+    settings.pair_node_to_segment = nts;
     Ok(Some(settings))
-}
-
-/// `-contact_pair`: (slave, master) pairs of surface groups.
-fn contact_pairs() -> Result<Option<Vec<(String, String)>>, Error> {
-    let Some(words) = CONTACT_PAIR.words()? else {
-        return Ok(None);
-    };
-    if words.len() % 2 != 0 {
-        return bad(format!(
-            "option -contact_pair: {} names given; pairs take two each (SLAVE,MASTER[,SLAVE2,MASTER2...])",
-            words.len()
-        ));
-    }
-    let pairs: Vec<(String, String)> = words
-        .chunks(2)
-        .map(|p| (p[0].clone(), p[1].clone()))
-        .collect();
-    if let Some(p) = pairs.iter().find(|p| p.0 == p.1) {
-        return bad(format!(
-            "option -contact_pair: '{}' is both the slave and the master surface of a pair",
-            p.0
-        ));
-    }
-    Ok(Some(pairs))
-}
-
-/// Contact between elastic bodies alone (no rigid obstacle): closest
-/// normals (each slave node's own), no obstacle.
-fn pairs_only(pairs: Vec<(String, String)>) -> ContactSettings {
-    ContactSettings {
-        surfaces: Vec::new(),
-        direction: Vec::new(),
-        normal: NormalMode::Closest,
-        obstacle: Obstacle::Plane { point: Vec::new() },
-        obstacles: Vec::new(),
-        named: false,
-        pairs,
-    }
 }
 
 /// The rigid obstacle(s) of `-contact_surface`.
@@ -480,6 +450,7 @@ fn obstacle_contact(
         obstacles,
         named: false,
         pairs: Vec::new(),
+        pair_node_to_segment: false,
     })
 }
 

@@ -249,7 +249,12 @@ impl ContactSet {
                     return bad(format!("option -contact_pair: group '{name}' has no line"));
                 }
             }
-            let rows = mortar::mortar_rows(&slave, &master, |g| (lo..hi).contains(&g));
+            let mine = |g: usize| (lo..hi).contains(&g);
+            let rows = if settings.pair_node_to_segment {
+                mortar::node_to_segment_rows(&slave, &master, mine)
+            } else {
+                mortar::mortar_rows(&slave, &master, mine)
+            };
             // (Decided on every rank: the first such node's tag.)
             let twice = rows.iter().map(|r| r.node - lo).find(|v| taken.contains(v));
             let twice = allreduce_max(world, twice.map_or(-1.0, |v| mesh.node_tag[v] as f64));

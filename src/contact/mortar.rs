@@ -348,6 +348,67 @@ pub fn mortar_rows(
     out
 }
 
+/// The node-to-segment rows (`-contact_pair_scheme node_to_segment`, for
+/// comparison): each wanted slave node's ray along its nodal normal meets
+/// the nearest facing master segment at `(1 - s) a + s b`, which is its
+/// row `(a: 1 - s, b: s)`; its weight is `int N_k` over its whole support.
+/// Not a mortar method: it fails the contact patch test on non-matching
+/// meshes (tests/pairs.rs gives the figure).
+pub fn node_to_segment_rows(
+    slave: &[Segment],
+    master: &[Segment],
+    wanted: impl Fn(usize) -> bool,
+) -> Vec<MortarNode> {
+    let mut sums: HashMap<usize, Sums> = HashMap::new();
+    for s in slave.iter().filter(|s| s.nodes.iter().any(|&v| wanted(v))) {
+        let len = s.length();
+        for (k, &v) in s.nodes.iter().enumerate().filter(|(_, &v)| wanted(v)) {
+            let e = sums.entry(v).or_default();
+            e.x = s.x[k];
+            e.normal[0] += len * s.normal[0];
+            e.normal[1] += len * s.normal[1];
+            e.full += len / 2.0;
+        }
+    }
+    let mut out: Vec<MortarNode> = sums
+        .into_iter()
+        .filter_map(|(node, e)| {
+            let nn = dot(e.normal, e.normal).sqrt();
+            let n = [e.normal[0] / nn, e.normal[1] / nn];
+            // x + t n = a + s (b - a): the nearest hit, |t| smallest.
+            let mut best: Option<(f64, &Segment, f64)> = None;
+            for m in master.iter().filter(|m| dot(n, m.normal) < 0.0) {
+                let ab = sub(m.x[1], m.x[0]);
+                let det = n[0] * (-ab[1]) - n[1] * (-ab[0]);
+                if det.abs() < 1e-14 * dot(ab, ab).sqrt() {
+                    continue;
+                }
+                let r = sub(m.x[0], e.x);
+                let t = (r[0] * (-ab[1]) - r[1] * (-ab[0])) / det;
+                let sp = (n[0] * r[1] - n[1] * r[0]) / det;
+                if (-1e-12..=1.0 + 1e-12).contains(&sp) && best.is_none_or(|b| t.abs() < b.0.abs())
+                {
+                    best = Some((t, m, sp.clamp(0.0, 1.0)));
+                }
+            }
+            let (t, m, sp) = best?;
+            let mut row = vec![(m.nodes[0], 1.0 - sp), (m.nodes[1], sp)];
+            row.retain(|r| r.1 != 0.0);
+            row.sort_unstable_by_key(|r| r.0);
+            Some(MortarNode {
+                node,
+                w: e.full,
+                normal: n,
+                gap: t,
+                row,
+                point: [e.x[0] + t * n[0], e.x[1] + t * n[1]],
+            })
+        })
+        .collect();
+    out.sort_unstable_by_key(|m| m.node);
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -248,6 +248,7 @@ opt!(DENSITY: Given = "-density" "RHO", Given("required with -gravity"), "mass d
 // Contact
 opt!(CONTACT_SURFACE: Given = "-contact_surface" "NAME[,NAME2...]", Given("required unless -contact_pair"), "physical group(s) of the candidate contact surface Gamma_c (one obstacle)");
 opt!(CONTACT_PAIR: Given = "-contact_pair" "SLAVE,MASTER[,SLAVE2,MASTER2...]", Given("none"), "two elastic bodies in contact (2D): the surface groups of each pair, slave side first; mortar coupling with dual multipliers, the slave's nodes the candidates (every option of the contact algorithm applies); with or without -contact_surface and a rigid obstacle on other surfaces");
+opt!(CONTACT_PAIR_SCHEME: Choice = "-contact_pair_scheme" "mortar|node_to_segment", Choice { default: "mortar", values: &["mortar", "node_to_segment"] }, "-contact_pair's coupling: mortar (dual multipliers, segment-based; passes the contact patch test on non-matching meshes) or node_to_segment (each slave node against the master point its normal meets, for comparison: it does not pass it)");
 opt!(CONTACT_DIRECTION: Given = "-contact_direction" "nx,ny[,nz]", Given("required with fixed normals, a plane or a halfball"), "unit contact direction n, toward the obstacle (a vector within 1e-3 of unit length is normalised)");
 opt!(CONTACT_NORMAL: Choice = "-contact_normal" "auto|fixed|closest", Choice { default: "auto", values: &["auto", "fixed", "closest"] }, "each candidate's gap and normal: fixed, along -contact_direction (the paper's); closest, from its closest point on the obstacle (every surface node a candidate); auto: fixed for a plane, closest for a ball, halfball or cylinder");
 opt!(OBSTACLE: Choice = "-obstacle" "plane|ball|halfball|cylinder|mesh", Choice { default: "required with a contact surface", values: &["plane", "ball", "halfball", "cylinder", "mesh"] }, "rigid obstacle; ball: with fixed normals the candidates are the nodes whose line along n meets the ball; halfball: the half-ball standing on its flat face on a floor (the plane through the centre orthogonal to n), every surface node a candidate (the paper's 3D Gamma_c); cylinder: around -obstacle_axis through -obstacle_center (2D: the disc, as ball); mesh: the surface of -obstacle_mesh (closest-point normals)");
@@ -322,6 +323,7 @@ pub const ALL: &[&dyn Declared] = &[
     &DENSITY,
     &CONTACT_SURFACE,
     &CONTACT_PAIR,
+    &CONTACT_PAIR_SCHEME,
     &CONTACT_DIRECTION,
     &CONTACT_NORMAL,
     &OBSTACLE,

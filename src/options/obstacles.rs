@@ -67,6 +67,7 @@ pub fn read(
         obstacles,
         named: true,
         pairs: Vec::new(),
+        pair_node_to_segment: false,
     })
 }
 
