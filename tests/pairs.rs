@@ -312,10 +312,6 @@ fn bad_pairs_are_refused() {
             "no physical group 'nowhere'",
         ),
         (vec!["-contact_pair", "slave,lower"], "dimension"),
-        (
-            vec!["-contact_pair", "slave,master", "-load_steps", "3"],
-            "not yet with -contact_pair",
-        ),
     ] {
         let mut a: Vec<&str> = base.to_vec();
         a.extend(extra.iter().copied());
@@ -447,5 +443,44 @@ fn node_to_segment_fails_the_patch_test() {
     assert!((force - P).abs() < 1e-8 * P, "force {force}");
     let (err, _, _) = patch_fields(vtk.to_str().unwrap());
     assert!(err > 1e-2, "node-to-segment displacement within {err:.3e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A load history on the same factorization with a pair: the patch test's
+/// pressure in steps 0.5, 1, 0.25 (`-load_history` by group) gives the
+/// uniform pressures 5, 10, 2.5 exactly, on 1 and 2 ranks.
+#[test]
+fn load_history_with_a_pair() {
+    let dir = scratch("pairs-history");
+    let msh = mesh(&dir, "patch2d.geo", &[]);
+    let table = dir.join("history.csv");
+    std::fs::write(&table, "step,pressure_top\n1,0.5\n2,1.0\n3,0.25\n").unwrap();
+    let steps = dir.join("steps.csv");
+    let vtk = dir.join("unused.pvtu");
+    let mut a = patch_args(&msh, vtk.to_str().unwrap());
+    let at = a.iter().position(|s| s == "-vtk").unwrap();
+    a.truncate(at);
+    a.extend([
+        "-load_history".to_string(),
+        table.to_str().unwrap().into(),
+        "-history_output".into(),
+        steps.to_str().unwrap().into(),
+    ]);
+    let a: Vec<&str> = a.iter().map(|s| s.as_str()).collect();
+    for ranks in [1, 2] {
+        let run = mpirun(ranks, &a);
+        assert_eq!(run.status, Some(0), "{}", run.context());
+        let text = std::fs::read_to_string(&steps).unwrap();
+        let mut lines = text.lines();
+        let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let peak = head.iter().position(|h| *h == "peak_pressure").unwrap();
+        let nodes = head.iter().position(|h| *h == "contact_nodes").unwrap();
+        for (line, want) in lines.zip([5.0, 10.0, 2.5]) {
+            let f: Vec<&str> = line.split(',').collect();
+            let p: f64 = f[peak].parse().unwrap();
+            assert!((p - want).abs() < 1e-8 * want, "{ranks} ranks: {line}");
+            assert_eq!(f[nodes], "6", "{line}");
+        }
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -48,6 +48,7 @@ pub fn split(
     matrix: &Matrix,
     lumped_mass: &[f64],
     template: &Vector,
+    transform: Option<&super::mortar::Transform>,
 ) -> Result<Option<Vec<LoadPart>>, Error> {
     let Some(history) = &settings.history else {
         return Ok(None);
@@ -99,7 +100,13 @@ pub fn split(
         x.write(|v| v.copy_from_slice(&xd))?;
         let ax = template.duplicate()?;
         matrix.mult(&x, &ax)?;
-        let rhs0 = ax.read(|a| load.iter().zip(a).map(|(f, a)| f - a).collect())?;
+        // (With a contact pair the right-hand side is on the changed
+        // unknowns, `T^T f_g - A x_D`; `load` stays f_g.)
+        let on_unknowns = match transform {
+            Some(t) => t.transpose_apply(&load, d)?,
+            None => load.clone(),
+        };
+        let rhs0 = ax.read(|a| on_unknowns.iter().zip(a).map(|(f, a)| f - a).collect())?;
         parts.push(LoadPart { load, rhs0, xd });
     }
     Ok(Some(parts))

@@ -222,11 +222,6 @@ impl Problem {
         // f, for the checks.
         let mut changed_load = None;
         if let Some(t) = &transform {
-            if settings.history.is_some() {
-                return crate::error::bad(
-                    "options -load_steps and -load_history: not yet with -contact_pair (one load)",
-                );
-            }
             matrix = t.stiffness(&matrix)?;
             changed_load = Some(t.load(&load)?);
             if let ContactTerms::Ubr { tangential } = terms {
@@ -235,9 +230,16 @@ impl Problem {
         }
         let mut dirichlet = Dirichlet::new(dirichlet, nown, &contact, d);
         let rhs_load = changed_load.as_ref().unwrap_or(&load);
-        let named = history::split(mesh, settings, &matrix, &el.lumped_mass, rhs_load)?;
+        let named = history::split(
+            mesh,
+            settings,
+            &matrix,
+            &el.lumped_mass,
+            &load,
+            transform.as_ref(),
+        )?;
         let rhs0 = eliminate(world, mesh, &matrix, rhs_load, &mut dirichlet)?;
-        let parts = history::finish(settings, named, rhs_load, &rhs0, &dirichlet)?;
+        let parts = history::finish(settings, named, &load, &rhs0, &dirichlet)?;
         matrix.set_spd()?;
         let matrix_mallocs = matrix.stats()?.mallocs;
         drop(guard);
