@@ -484,3 +484,78 @@ fn load_history_with_a_pair() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The 3D contact patch test: two blocks meshed apart (tests/pairs/
+/// patch3d.geo), unstructured tetrahedra of sizes 0.25 and 0.35 or
+/// hexahedra on 4 x 4 and 3 x 3 interface grids (non-matching), under a
+/// uniform pressure: every slave node at the pressure and the displacement
+/// of the single block (uniaxial: u = nu P (x, y) / E, u_z = -P z / E),
+/// to 1e-8, on 1 and 2 ranks.
+#[test]
+fn patch_test_3d_on_non_matching_interfaces() {
+    let dir = scratch("pairs-patch3d");
+    for quads in ["0", "1"] {
+        let out = dir.join(format!("patch3d_{quads}.msh"));
+        gmsh("-3", "tests/pairs/patch3d.geo", &out, &[("quads", quads)]);
+        let msh = out.to_str().unwrap();
+        for ranks in [1, 2] {
+            let vtk = dir.join(format!("p3_{quads}_{ranks}.pvtu"));
+            let args = [
+                "-mesh",
+                msh,
+                "-E",
+                "1000",
+                "-nu",
+                "0.3",
+                "-contact_pair",
+                "slave,master",
+                "-dirichlet_bottom",
+                "uz=0",
+                "-dirichlet_x0_lower",
+                "ux=0",
+                "-dirichlet_x0_upper",
+                "ux=0",
+                "-dirichlet_y0_lower",
+                "uy=0",
+                "-dirichlet_y0_upper",
+                "uy=0",
+                "-pressure_top",
+                "10",
+                "-ubr_lambda_rtol",
+                "1e-10",
+                "-vtk",
+                vtk.to_str().unwrap(),
+            ];
+            let (run, report, rows) = solve_rows(&format!("patch3d{quads}-{ranks}"), ranks, &args);
+            assert!(report.converged, "{}", run.stdout);
+            assert_eq!(
+                rows.len(),
+                if quads == "1" { 16 } else { 20 },
+                "{}",
+                run.stdout
+            );
+            for r in &rows {
+                assert!((r.lambda_n - P).abs() < 1e-8 * P, "quads {quads}: {r:?}");
+            }
+            let script = format!(
+                "import sys, vtk\nr = vtk.vtkXMLPUnstructuredGridReader()\nr.SetFileName(sys.argv[1])\nr.Update()\ng = r.GetOutput()\nd = g.GetPointData().GetArray('displacement')\nE, nu, p = {E}, {NU}, {P}\nerr, big = 0.0, 0.0\nfor i in range(g.GetNumberOfPoints()):\n    x, y, z = g.GetPoint(i)\n    w = (nu * p * x / E, nu * p * y / E, -p * z / E)\n    u = d.GetTuple3(i)\n    err = max(err, max(abs(a - b) for a, b in zip(u, w)))\n    big = max(big, max(abs(a) for a in w))\nprint(err / big)\n"
+            );
+            let py = std::process::Command::new(python())
+                .arg("-c")
+                .arg(script)
+                .arg(&vtk)
+                .output()
+                .expect("python3 with vtk");
+            let text = String::from_utf8_lossy(&py.stdout).to_string();
+            let err: f64 = text
+                .trim()
+                .parse()
+                .unwrap_or_else(|_| panic!("{text}\n{}", String::from_utf8_lossy(&py.stderr)));
+            assert!(
+                err < 1e-8,
+                "quads {quads}, {ranks} ranks: displacement off by {err:.3e}"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

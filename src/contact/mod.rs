@@ -13,6 +13,7 @@ pub use obstacle::{closest, gap, Obstacle};
 pub mod hertz;
 pub mod mesh_obstacle;
 pub mod mortar;
+pub mod mortar3d;
 pub mod obstacle;
 pub mod surface;
 
@@ -234,27 +235,16 @@ impl ContactSet {
         if settings.pairs.is_empty() {
             return Ok(());
         }
-        if mesh.dim != 2 {
-            return bad("option -contact_pair: contact between elastic bodies is 2D for now (the 3D mortar integration is not written yet)");
+        if mesh.dim == 3 && settings.pair_node_to_segment {
+            return bad(
+                "option -contact_pair_scheme node_to_segment: 2D only (the 3D pairs are mortar)",
+            );
         }
-        let (lo, hi) = (mesh.owned_start, mesh.owned_start + mesh.owned_count);
+        let lo = mesh.owned_start;
         let taken: std::collections::HashSet<usize> = self.node.iter().copied().collect();
         let (mut slaves, mut masters) = (Vec::new(), Vec::new());
         for (p, (s, m)) in settings.pairs.iter().enumerate() {
-            let opt = "-contact_pair";
-            let slave = mortar::gather_segments(world, &mortar::local_segments(mesh, opt, s)?);
-            let master = mortar::gather_segments(world, &mortar::local_segments(mesh, opt, m)?);
-            for (name, segs) in [(s, &slave), (m, &master)] {
-                if segs.is_empty() {
-                    return bad(format!("option -contact_pair: group '{name}' has no line"));
-                }
-            }
-            let mine = |g: usize| (lo..hi).contains(&g);
-            let rows = if settings.pair_node_to_segment {
-                mortar::node_to_segment_rows(&slave, &master, mine)
-            } else {
-                mortar::mortar_rows(&slave, &master, mine)
-            };
+            let (rows, slave_nodes, master_nodes) = pair_rows(world, mesh, settings, s, m)?;
             // (Decided on every rank: the first such node's tag.)
             let twice = rows.iter().map(|r| r.node - lo).find(|v| taken.contains(v));
             let twice = allreduce_max(world, twice.map_or(-1.0, |v| mesh.node_tag[v] as f64));
@@ -269,15 +259,15 @@ impl ContactSet {
                 self.node.push(v);
                 self.w.push(r.w);
                 self.g.push(r.gap);
-                self.normal.extend(r.normal);
+                self.normal.extend(&r.normal[..mesh.dim]);
                 self.group.push(settings.surfaces.len() + p);
                 self.obstacle.push(settings.obstacles.len() + p);
                 self.pair.push(p);
                 self.mortar.push(r.row);
-                self.image.extend(r.point);
+                self.image.extend(&r.point[..mesh.dim]);
             }
-            slaves.extend(slave.iter().flat_map(|g| g.nodes).map(|n| (n, s)));
-            masters.extend(master.iter().flat_map(|g| g.nodes).map(|n| (n, m)));
+            slaves.extend(slave_nodes.into_iter().map(|n| (n, s)));
+            masters.extend(master_nodes.into_iter().map(|n| (n, m)));
         }
         self.uniform = false;
         let slave_of: std::collections::HashMap<usize, &String> = slaves.into_iter().collect();
@@ -291,6 +281,46 @@ impl ContactSet {
         }
         Ok(())
     }
+}
+
+/// The mortar rows of this rank's slave nodes of the pair (`s`, `m`), and
+/// the nodes (global numbers) of its two surfaces.
+fn pair_rows<C: mpi::traits::Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    settings: &ContactSettings,
+    s: &str,
+    m: &str,
+) -> Result<(Vec<mortar::MortarNode>, Vec<usize>, Vec<usize>), Error> {
+    let opt = "-contact_pair";
+    let (lo, hi) = (mesh.owned_start, mesh.owned_start + mesh.owned_count);
+    let mine = |g: usize| (lo..hi).contains(&g);
+    let empty = |name: &str, n: usize| -> Result<(), Error> {
+        match n {
+            0 => bad(format!("option -contact_pair: group '{name}' has no facet")),
+            _ => Ok(()),
+        }
+    };
+    if mesh.dim == 3 {
+        let slave = mortar3d::gather_facets(world, &mortar3d::local_facets(mesh, opt, s)?);
+        let master = mortar3d::gather_facets(world, &mortar3d::local_facets(mesh, opt, m)?);
+        empty(s, slave.len())?;
+        empty(m, master.len())?;
+        let rows = mortar3d::mortar_rows(&slave, &master, mine);
+        let nodes = |f: &[mortar3d::Facet]| f.iter().flat_map(|x| x.nodes.clone()).collect();
+        return Ok((rows, nodes(&slave), nodes(&master)));
+    }
+    let slave = mortar::gather_segments(world, &mortar::local_segments(mesh, opt, s)?);
+    let master = mortar::gather_segments(world, &mortar::local_segments(mesh, opt, m)?);
+    empty(s, slave.len())?;
+    empty(m, master.len())?;
+    let rows = if settings.pair_node_to_segment {
+        mortar::node_to_segment_rows(&slave, &master, mine)
+    } else {
+        mortar::mortar_rows(&slave, &master, mine)
+    };
+    let nodes = |f: &[mortar::Segment]| f.iter().flat_map(|x| x.nodes).collect();
+    Ok((rows, nodes(&slave), nodes(&master)))
 }
 
 /// The obstacle's points against the mesh's dimension; `single`: the

@@ -63,14 +63,14 @@ pub struct MortarNode {
     pub node: usize,
     /// `int N_k` over the covered part of its support.
     pub w: f64,
-    /// Averaged nodal normal, outward of the slave body.
-    pub normal: [f64; 2],
+    /// Averaged nodal normal, outward of the slave body (`dim` values).
+    pub normal: Vec<f64>,
     /// Weighted gap along the normal (negative: initial penetration).
     pub gap: f64,
     /// `P_kj` by master node (global number), increasing.
     pub row: Vec<(usize, f64)>,
-    /// The node's image on the master, `sum_j P_kj x_j`.
-    pub point: [f64; 2],
+    /// The node's image on the master, `sum_j P_kj x_j` (`dim` values).
+    pub point: Vec<f64>,
 }
 
 /// This rank's segments of the surface group `name` (2D lines), each once
@@ -337,10 +337,10 @@ pub fn mortar_rows(
             Some(MortarNode {
                 node,
                 w: e.covered,
-                normal,
+                normal: normal.to_vec(),
                 gap: dot(normal, sub(proj, e.x)),
                 row,
-                point: proj,
+                point: proj.to_vec(),
             })
         })
         .collect();
@@ -398,10 +398,10 @@ pub fn node_to_segment_rows(
             Some(MortarNode {
                 node,
                 w: e.full,
-                normal: n,
+                normal: n.to_vec(),
                 gap: t,
                 row,
-                point: [e.x[0] + t * n[0], e.x[1] + t * n[1]],
+                point: vec![e.x[0] + t * n[0], e.x[1] + t * n[1]],
             })
         })
         .collect();
