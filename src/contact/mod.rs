@@ -283,6 +283,10 @@ impl ContactSet {
     }
 }
 
+/// A pair's mortar rows (this rank's slave nodes), and the nodes (global
+/// numbers) of its slave and master surfaces.
+type PairRows = (Vec<mortar::MortarNode>, Vec<usize>, Vec<usize>);
+
 /// The mortar rows of this rank's slave nodes of the pair (`s`, `m`), and
 /// the nodes (global numbers) of its two surfaces.
 fn pair_rows<C: mpi::traits::Communicator>(
@@ -291,7 +295,7 @@ fn pair_rows<C: mpi::traits::Communicator>(
     settings: &ContactSettings,
     s: &str,
     m: &str,
-) -> Result<(Vec<mortar::MortarNode>, Vec<usize>, Vec<usize>), Error> {
+) -> Result<PairRows, Error> {
     let opt = "-contact_pair";
     let (lo, hi) = (mesh.owned_start, mesh.owned_start + mesh.owned_count);
     let mine = |g: usize| (lo..hi).contains(&g);

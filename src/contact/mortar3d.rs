@@ -117,13 +117,13 @@ pub fn local_facets(mesh: &LocalMesh, option: &str, name: &str) -> Result<Vec<Fa
                 mesh.node_tag[e[0]]
             ));
         }
-        let cell = mesh.cells.get(c);
-        let mut centroid = [0.0; 3];
-        for &v in cell {
-            for k in 0..3 {
-                centroid[k] += mesh.x(v)[k] / cell.len() as f64;
-            }
-        }
+        let corners: Vec<V3> = mesh
+            .cells
+            .get(c)
+            .iter()
+            .map(|&v| [mesh.x(v)[0], mesh.x(v)[1], mesh.x(v)[2]])
+            .collect();
+        let centroid = mean(&corners);
         let mid = mean(&x);
         if dot(n, sub(centroid, mid)) > 0.0 {
             n = [-n[0], -n[1], -n[2]];
@@ -454,7 +454,7 @@ fn integrate(
                 tri[0][0] * (1.0 - l1 - l2) + tri[1][0] * l1 + tri[2][0] * l2,
                 tri[0][1] * (1.0 - l1 - l2) + tri[1][1] * l1 + tri[2][1] * l2,
             ];
-            let (r, t) = local(&ps, x);
+            let (r, t) = local(ps, x);
             let ns = shapes(ks, r, t);
             let (r, t) = local(q, x);
             let nm = shapes(km, r, t);
