@@ -559,3 +559,84 @@ fn patch_test_3d_on_non_matching_interfaces() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Hertz in 3D between two elastic bodies: a ball of radius 1 (slave: its
+/// lower half's sphere) on a block (master: its top), E = 2000, nu = 0.3
+/// both (E* = E / (2 (1 - nu^2))), quarter models (tests/pairs/
+/// ball_block3d.geo, mesh size 0.02 within 0.2 of the contact). With F the
+/// load (four times the quarter's), a = (3 F R / (4 E*))^(1/3) = 0.1496
+/// and p0 = 3 F / (2 pi a^2) = 104.6. Measured: peak +5.8%, contact radius
+/// 0.1469 (-1.8%); at mesh size 0.015 +5.2% and -2.7%. The same ball on a
+/// rigid plane (E halved: the same E*) on the same mesh gives +3.6% and
+/// -1.4% (0.02), +2.7% and -0.7% (0.015): both bodies' discretizations
+/// add their compliance errors, where the rigid plane adds none. 1 and 2
+/// ranks agree to 1e-8.
+#[test]
+fn ball_on_a_block_follows_hertz() {
+    let dir = scratch("pairs-ball");
+    let out = dir.join("ball_block3d.msh");
+    gmsh(
+        "-3",
+        "tests/pairs/ball_block3d.geo",
+        &out,
+        &[("hc", "0.02")],
+    );
+    let msh = out.to_str().unwrap();
+    let args = [
+        "-mesh",
+        msh,
+        "-E",
+        "2000",
+        "-nu",
+        "0.3",
+        "-contact_pair",
+        "slave,master",
+        "-dirichlet_base",
+        "uz=0",
+        "-dirichlet_x0_ball",
+        "ux=0",
+        "-dirichlet_y0_ball",
+        "uy=0",
+        "-dirichlet_x0_block",
+        "ux=0",
+        "-dirichlet_y0_block",
+        "uy=0",
+        "-traction_top",
+        "0,0,-1.574",
+        "-ubr_lambda_rtol",
+        "1e-8",
+    ];
+    let (run, report, rows) = solve_rows("ball-1", 1, &args);
+    assert!(report.converged, "{}", run.stdout);
+    // F from the contact forces (the quarter's, times 4).
+    let f: f64 = 4.0
+        * rows
+            .iter()
+            .map(|r| -r.weight * r.lambda_n * r.normal[2])
+            .sum::<f64>();
+    let es = 2000.0 / (2.0 * 0.91);
+    let a = (3.0 * f / (4.0 * es)).cbrt();
+    let p0 = 3.0 * f / (2.0 * std::f64::consts::PI * a * a);
+    let peak = rows.iter().map(|r| r.lambda_n).fold(0.0, f64::max);
+    let edge = rows
+        .iter()
+        .filter(|r| r.lambda_n > 1e-6 * p0)
+        .map(|r| r.x[0].hypot(r.x[1]))
+        .fold(0.0, f64::max);
+    assert!(
+        (peak / p0 - 1.0).abs() < 0.07,
+        "peak {peak} against Hertz {p0}"
+    );
+    assert!(
+        (edge - a).abs() < 1.5 * 0.02,
+        "radius {edge} against Hertz {a}"
+    );
+    let (run, _, other) = solve_rows("ball-2", 2, &args);
+    let gap = max_pressure_gap(&rows, &other);
+    assert!(
+        gap < 1e-8,
+        "1 and 2 ranks differ by {gap:.3e}\n{}",
+        run.stdout
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
