@@ -16,7 +16,7 @@
 //!   per body, the oedometric springs T (1/M_soft + 1/M_hard), M the P-wave
 //!   modulus; `-E_soft` equal to `-E` gives the global-material answer
 //!   bit for bit; each cell's density weighs (the bottom reaction is the
-//!   weight of both bodies).
+//!   weight of both bodies); the VTU's stresses take each cell's E.
 //! - (b) tetrahedra (two bonded unit cubes): the closed form to 1e-8.
 //! - (c) 1, 2, 3 ranks agree to 1e-8.
 //! - (d) bad input: exit 2, one line naming the option.
@@ -158,6 +158,42 @@ fn two_bonded_bodies_2d_series_springs() {
     }
 }
 
+/// (a) The stresses of `-vtk` take each cell's material: in series both
+/// bodies carry sigma_yy = T (with the global E in the hard body's cells
+/// it would be 10 T there).
+#[test]
+fn stresses_use_each_cells_material() {
+    let (dir, msh) = mesh("stress", "-2", &geo_2d(false, ""));
+    let vtu = dir.join("out.vtu");
+    let vtu = vtu.to_str().unwrap();
+    top_displacements(
+        "stress",
+        2,
+        &args_2d(&msh, &["-E", "1", "-E_hard", "10", "-vtk", vtu]),
+    );
+    let script = "import sys, meshio, numpy as np
+m = meshio.read(sys.argv[1])
+s = np.concatenate(m.cell_data['stress']).reshape(-1, 9)
+print(s[:, 4].min(), s[:, 4].max())";
+    let py = std::process::Command::new(python())
+        .args(["-c", script, vtu])
+        .output()
+        .expect("python3 with meshio");
+    let text = String::from_utf8_lossy(&py.stdout).to_string();
+    let f: Vec<f64> = text
+        .split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect();
+    assert!(
+        py.status.success() && f.len() == 2,
+        "{text}\n{}",
+        String::from_utf8_lossy(&py.stderr)
+    );
+    println!("sigma_yy from {:e} to {:e}, T = {T:e}", f[0], f[1]);
+    assert!((f[0] - T).abs() < 1e-8 * T && (f[1] - T).abs() < 1e-8 * T);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 /// (a) `-E_soft` equal to `-E`: the global-material answer, bit for bit.
 #[test]
 fn same_material_as_global_changes_nothing() {
@@ -295,6 +331,12 @@ fn ranks_agree() {
     for n in [2, 3] {
         let other = top_displacements(&format!("ranks-{n}"), n, &args);
         assert_eq!(one.len(), other.len());
+        let gap = one
+            .iter()
+            .zip(&other)
+            .map(|(a, b)| ((a.1 - b.1) / a.1).abs())
+            .fold(0.0, f64::max);
+        println!("-n {n} against -n 1: largest relative gap {gap:.2e}");
         for (a, b) in one.iter().zip(&other) {
             assert_eq!(a.0, b.0);
             assert!(
