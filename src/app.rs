@@ -182,7 +182,8 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     /// when no iteration ran) with `converged: false` and the failure's
     /// message; the run then ends with that error.
     fn run(&mut self, unused: &mut Unused) -> Result<(), Error> {
-        let local = self.make_and_distribute_mesh()?;
+        let mut local = self.make_and_distribute_mesh()?;
+        crate::fem::material::resolve(&mut local, &self.settings)?;
         let (contact, dirichlet, restraint) = self.setup_contact(&local)?;
         let assembled = self.assemble(&local, contact, dirichlet, &restraint);
         let mut problem = assembled.map_err(|e| self.explain_r(e))?;
@@ -483,8 +484,10 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             }
         };
         // r: the user's, or a trial r0 refined after the factorization
-        // (auto); the trial is kept to judge the user's r.
-        let modulus = penalty::p_wave_modulus(s.young, s.nu, d, s.plane_stress);
+        // (auto); the trial is kept to judge the user's r. One modulus for
+        // the whole scene: the stiffest body's.
+        let m = s.stiffest(d);
+        let modulus = penalty::p_wave_modulus(m.young, m.nu, d, s.plane_stress);
         let trial = penalty::trial(world, local, &cs, modulus);
         self.r_trial = Some(trial);
         let s = &self.settings;

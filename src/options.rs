@@ -12,6 +12,7 @@ pub mod declared;
 pub mod files;
 pub mod history;
 pub mod inert;
+pub mod materials;
 pub mod obstacles;
 pub mod outputs;
 mod pairs;
@@ -185,6 +186,8 @@ pub struct Settings {
     pub partition: Partitioner,
     pub young: f64,
     pub nu: f64,
+    /// Every material: the global one and those of the body groups.
+    pub materials: materials::Materials,
     pub plane_stress: bool,
     pub dirichlet: Vec<DirichletBc>,
     pub traction: Vec<TractionBc>,
@@ -749,11 +752,10 @@ impl Settings {
         let Some(nu) = NU.real()? else {
             return bad("option -nu (Poisson's ratio) is required");
         };
-        if !(nu > -1.0 && nu < 0.5) {
-            return bad(format!("option -nu: {nu} is outside (-1, 0.5)"));
-        }
+        let nu = materials::check_nu(NU.name, nu)?;
         let plane_stress = PLANE_STRESS.get()?;
         let (dirichlet, traction, pressure, body_force) = loads()?;
+        let materials = materials::read(young, nu)?;
         let mut notes = Vec::new();
         let contact = contact(&mut notes)?;
         let (friction, friction_coefficient, tresca_bound) = friction()?;
@@ -766,7 +768,9 @@ impl Settings {
         if tresca_bound == Some(TrescaBound::Hertz) && reference.is_none() {
             return bad("option -tresca_bound hertz needs the Hertz reference (-reference hertz -reference_force F -reference_radius R)");
         }
-        let ssn_r = positive(SSN_R.name, SSN_R.real()?.unwrap_or(1e3 * young))?;
+        // The stiffest body's E (the largest) scales SSN-C's default r.
+        let e_max = materials.all().fold(young, |e, m| e.max(m.young));
+        let ssn_r = positive(SSN_R.name, SSN_R.real()?.unwrap_or(1e3 * e_max))?;
         let ssn_initial_shift = SSN_INITIAL_SHIFT.vector()?.unwrap_or_default();
         let ssn_max_it = SSN_MAX_IT.get()?;
         if algorithm != Algorithm::Ubr && friction != Friction::None {
@@ -812,6 +816,7 @@ impl Settings {
             partition,
             young,
             nu,
+            materials,
             plane_stress,
             dirichlet,
             traction,
@@ -850,14 +855,5 @@ impl Settings {
         }
         settings.notes.extend(unused::typos()?);
         Ok(settings)
-    }
-
-    /// E* of the Hertz formulas: E/(1-nu^2), or E in plane stress.
-    pub fn e_star(&self, dim: usize) -> f64 {
-        if dim == 2 && self.plane_stress {
-            self.young
-        } else {
-            self.young / (1.0 - self.nu * self.nu)
-        }
     }
 }

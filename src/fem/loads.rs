@@ -32,8 +32,51 @@ pub fn external_load(
                 f[a * d + c] += m * b[c];
             }
         }
+        if let Some(g) = &settings.materials.gravity {
+            density_load(mesh, settings, g, &mut f)?;
+        }
     }
     Ok(f)
+}
+
+/// Adds to `f` the weight of the cells whose density is not the global one
+/// (`-density_NAME`): `(rho_cell - rho) g int phi_a` to each owned vertex
+/// a, on top of the global density's share in the body force.
+fn density_load(
+    mesh: &LocalMesh,
+    settings: &Settings,
+    g: &[f64],
+    f: &mut [f64],
+) -> Result<(), Error> {
+    let d = mesh.dim;
+    let rho = settings.materials.global.density;
+    let list = &mesh.materials.list;
+    if list.iter().all(|m| m.density == rho) || g.len() != d {
+        return Ok(());
+    }
+    let kernels = Kernels::new(settings, mesh);
+    let nmax = d * mesh.cells.max_nodes();
+    let (mut ke, mut lumped) = (vec![0.0; nmax * nmax], [0.0; 8]);
+    for c in 0..mesh.cells.len() {
+        let extra = list[mesh.materials.index(c)].density - rho;
+        let cell = mesh.cells.get(c);
+        if extra == 0.0 || !cell.iter().any(|&v| mesh.is_owned(v)) {
+            continue;
+        }
+        // The integral of each vertex's shape function over the cell.
+        let measure = cell_stiffness(mesh, c, &kernels, &mut ke, &mut lumped)?;
+        if cell.len() == d + 1 {
+            lumped[..cell.len()].fill(measure / cell.len() as f64);
+        }
+        for (&a, share) in cell.iter().zip(lumped) {
+            if mesh.is_owned(a) {
+                for k in 0..d {
+                    f[a * d + k] += share * extra * g[k];
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The unit normal of a facet (2 points in 2D, 3 or 4 in 3D), not oriented.
@@ -143,7 +186,7 @@ pub fn stiffness_rows(
 ) -> Result<Vec<f64>, Error> {
     let d = mesh.dim;
     let mut out = vec![0.0; wanted.len()];
-    let kernels = Kernels::new(settings, d);
+    let kernels = Kernels::new(settings, mesh);
     let nmax = d * mesh.cells.max_nodes();
     let (mut ke, mut lumped) = (vec![0.0; nmax * nmax], [0.0; 8]);
     let wants = |v: usize| mesh.is_owned(v) && (0..d).any(|c| wanted[v * d + c]);

@@ -10,6 +10,7 @@ pub mod deformation;
 pub use crate::element;
 pub use crate::element::{hooke_2d, hooke_3d};
 pub mod loads;
+pub mod material;
 pub mod stress;
 
 use crate::error::{bad, Error};
@@ -195,18 +196,38 @@ pub struct Elasticity {
     pub lumped_mass: Vec<f64>,
 }
 
-/// The material matrices of the element kernels, once per use.
+/// The material matrices of the element kernels, once per use: one per
+/// material of the mesh ([`material`]), each cell taking its own.
 pub struct Kernels {
-    d2: SMatrix<f64, 3, 3>,
-    lame: (f64, f64),
+    /// Hooke's matrix (2D) and Lamé's constants of each material.
+    each: Vec<(SMatrix<f64, 3, 3>, (f64, f64))>,
 }
 
 impl Kernels {
-    pub fn new(settings: &Settings, dim: usize) -> Kernels {
-        Kernels {
-            d2: hooke_2d(settings.young, settings.nu, settings.plane_stress),
-            lame: element::lame(settings.young, settings.nu, dim, settings.plane_stress),
-        }
+    pub fn new(settings: &Settings, mesh: &LocalMesh) -> Kernels {
+        let ps = settings.plane_stress;
+        let each = material::list(mesh, settings)
+            .iter()
+            .map(|m| {
+                (
+                    hooke_2d(m.young, m.nu, ps),
+                    element::lame(m.young, m.nu, mesh.dim, ps),
+                )
+            })
+            .collect();
+        Kernels { each }
+    }
+
+    /// Hooke's matrix (2D) of local cell `c`'s material.
+    #[inline]
+    fn d2(&self, mesh: &LocalMesh, c: usize) -> &SMatrix<f64, 3, 3> {
+        &self.each[mesh.materials.index(c)].0
+    }
+
+    /// Lamé's `(lambda, mu)` of local cell `c`'s material.
+    #[inline]
+    pub fn lame(&self, mesh: &LocalMesh, c: usize) -> (f64, f64) {
+        self.each[mesh.materials.index(c)].1
     }
 }
 
@@ -229,7 +250,7 @@ pub fn cell_stiffness(
                 let p = mesh.x(cell[a]);
                 [p[0], p[1]]
             });
-            let (m, area) = stiffness_2d(&x, &kernels.d2);
+            let (m, area) = stiffness_2d(&x, kernels.d2(mesh, c));
             for i in 0..6 {
                 for j in 0..6 {
                     ke[i * 6 + j] = m[(i, j)];
@@ -242,7 +263,7 @@ pub fn cell_stiffness(
                 let p = mesh.x(cell[a]);
                 [p[0], p[1], p[2]]
             });
-            stiffness_p1_3d_into(&x, kernels.lame, ke)
+            stiffness_p1_3d_into(&x, kernels.lame(mesh, c), ke)
         }
         (2, 4) => {
             let x: [[f64; 2]; 4] = std::array::from_fn(|a| {
@@ -251,7 +272,8 @@ pub fn cell_stiffness(
             });
             ke[..64].fill(0.0);
             let mut l4 = [0.0; 4];
-            let r = element::q1_stiffness(&x, element::quad_rule(), kernels.lame, ke, &mut l4);
+            let lame = kernels.lame(mesh, c);
+            let r = element::q1_stiffness(&x, element::quad_rule(), lame, ke, &mut l4);
             lumped[..4].copy_from_slice(&l4);
             r.unwrap_or(f64::NAN)
         }
@@ -262,7 +284,8 @@ pub fn cell_stiffness(
                 let p = mesh.x(v);
                 *xa = [p[0], p[1], p[2]];
             }
-            element::hex_family_stiffness(&x[..k], kernels.lame, ke, lumped).unwrap_or(f64::NAN)
+            element::hex_family_stiffness(&x[..k], kernels.lame(mesh, c), ke, lumped)
+                .unwrap_or(f64::NAN)
         }
         _ => {
             return Err(Error::Internal(format!(
@@ -385,7 +408,8 @@ fn add_tetrahedra(
     // their block row (a, .) in closed form (see stiffness_p1_3d_into)
     // to a's rows, which stay in cache: no search for a slot, no
     // scattered writes (block3d_17887: assembly phase 0.100 -> 0.079 s).
-    let (lambda, mu) = element::lame(settings.young, settings.nu, 3, false);
+    // Each cell with its own material's Lamé constants.
+    let kernels = Kernels::new(settings, mesh);
     let nlocal = mesh.node_global.len();
     let ncells = mesh.cells.len();
     // The cells around each owned node.
@@ -433,6 +457,7 @@ fn add_tetrahedra(
             mass[a] += 0.25 * vol;
             let ia = cell.iter().position(|&v| v == a).expect("a is a vertex");
             let ga = g[ia];
+            let (lambda, mu) = kernels.lame(mesh, c);
             let (lv, mv) = (lambda * vol, mu * vol);
             for (ib, &b) in cell.iter().enumerate() {
                 let k = p1_block(&ga, &g[ib], lv, mv);
@@ -458,7 +483,7 @@ fn add_cells(
     mass: &mut [f64],
 ) -> Result<(), Error> {
     let d = mesh.dim;
-    let kernels = Kernels::new(settings, d);
+    let kernels = Kernels::new(settings, mesh);
     let nloc_max = d * mesh.cells.max_nodes();
     let mut ke = vec![0.0; nloc_max * nloc_max];
     // Cells by their lowest vertex (counting sort): the rows each one adds

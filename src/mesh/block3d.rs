@@ -212,6 +212,7 @@ pub fn generate(h: f64) -> Result<Mesh, MeshError> {
         cells: Cells::uniform(cells, 4),
         coords: grid.coords,
         groups,
+        bodies: Default::default(),
     })
 }
 
@@ -268,6 +269,7 @@ pub fn generate_hex(h: f64) -> Result<Mesh, MeshError> {
         cells: Cells::uniform(cells, 8),
         coords: grid.coords,
         groups,
+        bodies: Default::default(),
     })
 }
 

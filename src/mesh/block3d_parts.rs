@@ -274,6 +274,8 @@ pub fn own_part(h: f64, q1: bool, nparts: usize, p: usize) -> Result<Option<Loca
         coords,
         cells,
         groups,
+        bodies: Default::default(),
+        materials: Default::default(),
     }))
 }
 

@@ -12,7 +12,7 @@
 //! same way and keeps its own part (own_part_rcb here; the block's boxes in
 //! block3d_parts.rs, without the rest of the mesh).
 
-use super::{Cells, Group, Mesh};
+use super::{Bodies, CellMaterials, Cells, Group, Mesh};
 use crate::error::Error;
 use mpi::traits::*;
 use serde::{Deserialize, Serialize};
@@ -41,6 +41,13 @@ pub struct LocalMesh {
     /// Every group of the mesh, in the same order on every rank; each with the
     /// elements that touch an owned node.
     pub groups: Vec<Group>,
+    /// The body groups of each local cell (the table of sets whole, the
+    /// same on every rank).
+    pub bodies: Bodies,
+    /// The material of each local cell (resolved on each rank after the
+    /// distribution, not sent).
+    #[serde(skip)]
+    pub materials: CellMaterials,
 }
 
 impl LocalMesh {
@@ -464,6 +471,15 @@ impl<'a> Numbering<'a> {
             coords,
             cells,
             groups,
+            bodies: Bodies {
+                cell_set: if mesh.bodies.cell_set.is_empty() {
+                    Vec::new()
+                } else {
+                    cells_p.iter().map(|&c| mesh.bodies.cell_set[c]).collect()
+                },
+                sets: mesh.bodies.sets.clone(),
+            },
+            materials: CellMaterials::default(),
         }
     }
 }
@@ -560,6 +576,7 @@ mod tests {
                 dim: 1,
                 conn: Cells::uniform(vec![0, 1, 1, 2], 2),
             }],
+            bodies: Default::default(),
         }
     }
 
@@ -596,6 +613,42 @@ mod tests {
         // The bottom group's element (2,3) touches part 1's node 2 (old index 2).
         assert_eq!(locals[1].groups[0].len(), 1);
         assert_eq!(locals[0].groups[0].len(), 2);
+    }
+
+    /// The body groups travel with the cells: each local cell keeps its
+    /// set (here: left of x = 1 in group 1, right of it in group 2).
+    #[test]
+    fn body_groups_follow_their_cells() {
+        let mut m = square();
+        let centre_x = |m: &Mesh, cell: &[usize]| -> f64 {
+            cell.iter().map(|&v| m.coords[2 * v]).sum::<f64>() / 3.0
+        };
+        let members: Vec<(usize, u32)> = (0..m.num_cells())
+            .map(|c| {
+                (
+                    c,
+                    if centre_x(&m, m.cells.get(c)) < 1.0 {
+                        1
+                    } else {
+                        2
+                    },
+                )
+            })
+            .collect();
+        m.bodies = Bodies::from_members(m.num_cells(), members);
+        assert_eq!(m.bodies.sets, vec![vec![], vec![1], vec![2]]);
+        let part: Vec<usize> = (0..9).map(|i| i % 3).collect();
+        let order = locality_order(&NodeGraph::new(&m), &part, 3);
+        for l in split(&m, &part, &order, 3) {
+            let wire = postcard::to_allocvec(&l).unwrap();
+            let l: LocalMesh = postcard::from_bytes(&wire).unwrap();
+            assert_eq!(l.bodies.sets, m.bodies.sets);
+            assert_eq!(l.bodies.cell_set.len(), l.num_cells());
+            for (c, cell) in l.cells.iter().enumerate() {
+                let x = cell.iter().map(|&v| l.x(v)[0]).sum::<f64>() / 3.0;
+                assert_eq!(l.bodies.of(c), &[if x < 1.0 { 1 } else { 2 }]);
+            }
+        }
     }
 
     #[test]

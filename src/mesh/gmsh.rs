@@ -280,6 +280,10 @@ struct Reader<'a> {
     group_entries: usize,
     /// Previous 2.2 element (type, nodes), to skip Gmsh's repeated cells.
     prev_v2: Option<(i32, [usize; MAX_NODES])>,
+    /// Physical groups of the cells of dimension 2 and 3: (cell index in
+    /// `cells2` or `cells3`, index in `groups`).
+    members2: Vec<(usize, u32)>,
+    members3: Vec<(usize, u32)>,
 }
 
 impl<'a> Reader<'a> {
@@ -311,6 +315,8 @@ impl<'a> Reader<'a> {
             last_group: None,
             group_entries: 0,
             prev_v2: None,
+            members2: Vec::new(),
+            members3: Vec::new(),
         }
     }
 
@@ -1009,11 +1015,25 @@ impl<'a> Reader<'a> {
         if !repeat {
             self.add_cell(dim, c, etag);
         }
-        if dim < 3 && phys != 0 {
+        if phys != 0 {
             let g = self.group_slot(dim, phys);
+            self.join(dim, g, c);
+        }
+    }
+
+    /// The last element read (of dimension `dim`, nodes `c`) joins group
+    /// `g`: a boundary element as an element of the group, a cell (dimension
+    /// 2 or 3) as a member (a group of the mesh's dimension is a body).
+    fn join(&mut self, dim: usize, g: usize, c: &[usize]) {
+        if dim < 3 {
             if let Some(group) = self.groups.get_mut(g) {
                 group.conn.push(c);
             }
+        }
+        match dim {
+            2 => self.members2.push((self.cells2.len() - 1, g as u32)),
+            3 => self.members3.push((self.cells3.len() - 1, g as u32)),
+            _ => {}
         }
     }
 
@@ -1105,7 +1125,7 @@ impl<'a> Reader<'a> {
                         ),
                     ));
                 };
-                if dim < 3 && nb > 0 {
+                if nb > 0 {
                     let phys = self.entity_phys.get(s..e).unwrap_or(&[]).to_vec();
                     for p in phys {
                         if p != 0 {
@@ -1131,11 +1151,9 @@ impl<'a> Reader<'a> {
                 let c = conn.get(..k).unwrap_or(&conn);
                 self.add_cell(dim, c, etag);
                 for &g in &slots {
-                    if let Some(group) = self.groups.get_mut(g) {
-                        group.conn.push(c);
-                    }
+                    self.join(dim, g, c);
                 }
-                self.group_entries = self.group_entries.saturating_add(k * slots.len());
+                self.group_entries = self.group_entries.saturating_add((k + 1) * slots.len());
                 if self.group_entries > budget {
                     return Err(self.err(
                         bat,
@@ -1216,13 +1234,16 @@ impl<'a> Reader<'a> {
             }
             xy
         };
-        let (cells, cell_tags) = if dim == 3 {
-            (self.cells3, self.tags3)
+        let (cells, cell_tags, members) = if dim == 3 {
+            (self.cells3, self.tags3, self.members3)
         } else {
-            (self.cells2, self.tags2)
+            (self.cells2, self.tags2, self.members2)
         };
+        // Where each group lands among the mesh's groups (those of its dimension or lower).
+        let mut kept = Vec::with_capacity(self.groups.len());
         let mut groups = Vec::new();
         for g in self.groups {
+            kept.push(groups.len() as u32);
             if g.dim <= dim {
                 let name = match self.names.get(&(g.dim, g.tag)) {
                     Some(n) => n.clone(),
@@ -1249,6 +1270,11 @@ impl<'a> Reader<'a> {
                 }
             }
         }
+        let members = members
+            .into_iter()
+            .map(|(c, g)| (c, kept.get(g as usize).copied().unwrap_or(0)))
+            .collect();
+        let bodies = super::Bodies::from_members(cells.len(), members);
         let mut mesh = Mesh {
             dim,
             coords,
@@ -1256,6 +1282,7 @@ impl<'a> Reader<'a> {
             cells,
             cell_tags,
             groups,
+            bodies,
         };
         mesh.drop_unused_nodes();
         Ok(mesh)
@@ -1383,6 +1410,14 @@ $EndElements
         }
     }
 
+    /// The body groups of the cells: each cell's set, and the sets.
+    fn bodies(cell_set: &[u32], sets: &[&[u32]]) -> crate::mesh::Bodies {
+        crate::mesh::Bodies {
+            cell_set: cell_set.to_vec(),
+            sets: sets.iter().map(|s| s.to_vec()).collect(),
+        }
+    }
+
     /// A group of elements of any sizes.
     fn group_of(name: &str, dim: usize, elems: &[&[usize]]) -> Group {
         Group {
@@ -1408,6 +1443,8 @@ $EndElements
                 // The cells' group, by its name only.
                 group("body", 2, &[]),
             ],
+            // Both cells in "body".
+            bodies: bodies(&[1, 1], &[&[], &[5]]),
         }
     }
 
@@ -1497,8 +1534,11 @@ $EndElements
                 group("41", 1, &[1, 2]),
                 group("base", 2, &[0, 2, 1]),
                 group("solid", 3, &[]),
+                group("31", 3, &[]),
                 group("ghost", 1, &[]),
             ],
+            // Both cells in "solid" and in the unnamed "31".
+            bodies: bodies(&[1, 1], &[&[], &[2, 3]]),
         }
     }
 
@@ -1841,6 +1881,10 @@ $EndElements
         // (the cells' group "body" too, by its name).
         assert_eq!(m.groups.last(), Some(&group("bottom", 1, &[])));
         assert_eq!(m.groups.len(), 6);
+        // The first cell is in no body group, the second in "body".
+        assert_eq!(m.bodies.of(0), &[] as &[u32]);
+        assert_eq!(m.bodies.of(1), &[4]);
+        assert_eq!(m.groups[4].name, "body");
     }
 
     #[test]
@@ -2016,6 +2060,7 @@ $EndElements
             cells: vec![vec![0, 1, 2, 3], vec![1, 4, 2]].into_iter().collect(),
             cell_tags: vec![],
             groups: vec![group("bottom", 1, &[0, 1]), group("body", 2, &[])],
+            bodies: bodies(&[1, 1], &[&[], &[1]]),
         };
         let m3 = Mesh {
             dim: 3,
@@ -2029,6 +2074,7 @@ $EndElements
                 group_of("faces", 2, &[&[0, 3, 2, 1], &[4, 5, 8]]),
                 group("solid", 3, &[]),
             ],
+            bodies: bodies(&[1, 1], &[&[], &[1]]),
         };
         for (mesh, expected) in [(mixed2d(), m2), (mixed3d(), m3)] {
             for (what, bytes) in variants(&mesh) {

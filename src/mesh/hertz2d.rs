@@ -155,6 +155,7 @@ pub fn generate(h: f64) -> Result<Mesh, MeshError> {
             line("symmetry", symmetry),
             line("top", top),
         ],
+        bodies: Default::default(),
     })
 }
 
@@ -240,6 +241,7 @@ pub fn generate_quad(h: f64) -> Result<Mesh, MeshError> {
             line("symmetry", path(symmetry)),
             line("top", path(top)),
         ],
+        bodies: Default::default(),
     })
 }
 

@@ -23,6 +23,7 @@ pub mod gmsh;
 pub mod hertz2d;
 
 use crate::error::{bad, Error};
+use crate::options::materials::Material;
 use crate::options::MeshSource;
 use crate::progress;
 use serde::{Deserialize, Serialize};
@@ -284,8 +285,85 @@ impl Group {
     }
 }
 
-/// A serial mesh. Equality compares the geometry, the node tags and the
-/// groups, not the element tags (formats number elements differently).
+/// The body groups (physical groups of the mesh's dimension: Gmsh's
+/// Physical Surface in 2D, Physical Volume in 3D) each cell belongs to, as
+/// an index per cell into a table of distinct sets of groups (most meshes
+/// have one set per body). A cell may be in several groups (Gmsh writes it
+/// once per group), or in none.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Bodies {
+    /// Per cell, its index in `sets`; empty when no cell is in a body group.
+    pub cell_set: Vec<u32>,
+    /// The distinct sets of body groups, each the ascending indices of its
+    /// groups in the mesh's `groups`; `sets[0]` is the empty set.
+    pub sets: Vec<Vec<u32>>,
+}
+
+impl Bodies {
+    /// From `(cell, group)` memberships of a mesh of `ncells` cells (in any
+    /// order, repeats allowed): the sets in order of their first cell.
+    pub fn from_members(ncells: usize, mut members: Vec<(usize, u32)>) -> Bodies {
+        if members.is_empty() {
+            return Bodies::default();
+        }
+        members.sort_unstable();
+        members.dedup();
+        let mut sets: Vec<Vec<u32>> = vec![Vec::new()];
+        let mut index: std::collections::HashMap<Vec<u32>, u32> =
+            std::collections::HashMap::from([(Vec::new(), 0)]);
+        let mut cell_set = vec![0u32; ncells];
+        let mut i = 0;
+        while i < members.len() {
+            let c = members[i].0;
+            let mut set = Vec::new();
+            while i < members.len() && members[i].0 == c {
+                set.push(members[i].1);
+                i += 1;
+            }
+            let next = sets.len() as u32;
+            let k = *index.entry(set.clone()).or_insert(next);
+            if k == next {
+                sets.push(set);
+            }
+            if let Some(slot) = cell_set.get_mut(c) {
+                *slot = k;
+            }
+        }
+        Bodies { cell_set, sets }
+    }
+
+    /// The body groups of cell `c` (indices into the mesh's `groups`).
+    pub fn of(&self, c: usize) -> &[u32] {
+        match self.cell_set.get(c) {
+            Some(&k) => &self.sets[k as usize],
+            None => &[],
+        }
+    }
+}
+
+/// The material of each cell of a local mesh, once resolved from the
+/// options and the body groups (`crate::fem::material::resolve`).
+#[derive(Clone, Debug, Default)]
+pub struct CellMaterials {
+    /// The distinct materials, `list[0]` the global one; empty until
+    /// resolved (the element kernels then take the global `-E`, `-nu`).
+    pub list: Vec<Material>,
+    /// Per local cell, its index in `list`; empty when every cell has the
+    /// global material.
+    pub of_cell: Vec<u32>,
+}
+
+impl CellMaterials {
+    /// The index in `list` of cell `c`'s material.
+    #[inline]
+    pub fn index(&self, c: usize) -> usize {
+        self.of_cell.get(c).map_or(0, |&k| k as usize)
+    }
+}
+
+/// A serial mesh. Equality compares the geometry, the node tags, the
+/// groups and the cells' body groups, not the element tags (formats number
+/// elements differently).
 #[derive(Clone, Debug)]
 pub struct Mesh {
     /// 2 (triangles, quadrilaterals) or 3 (tetrahedra, hexahedra).
@@ -302,6 +380,8 @@ pub struct Mesh {
     /// by name only (no elements: the cells are the body), so that an
     /// option naming one is told its dimension.
     pub groups: Vec<Group>,
+    /// The groups of dimension `dim` of each cell.
+    pub bodies: Bodies,
 }
 
 /// An error reading or generating a mesh. Its `Display` is one line naming the
@@ -330,6 +410,7 @@ impl PartialEq for Mesh {
             && self.node_tags == o.node_tags
             && self.cells == o.cells
             && self.groups == o.groups
+            && self.bodies == o.bodies
     }
 }
 
@@ -640,6 +721,7 @@ mod tests {
             cells: Cells::uniform(vec![0, 1, 2, 3], 4),
             cell_tags: vec![1],
             groups: vec![],
+            bodies: Bodies::default(),
         };
         assert!((m.signed_measure(0) - 1.5).abs() < 1e-14);
         let (lo, hi) = m.jacobian_range(0);
@@ -659,6 +741,7 @@ mod tests {
             cells: Cells::uniform((0..8).collect(), 8),
             cell_tags: vec![1],
             groups: vec![],
+            bodies: Bodies::default(),
         };
         assert!((cube.signed_measure(0) - 1.0).abs() < 1e-14);
         let (lo, hi) = cube.jacobian_range(0);

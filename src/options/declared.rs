@@ -237,6 +237,9 @@ opt!(PARTITION: Choice = "-partition" "auto|metis|rcb", Choice { default: "auto"
 // Material
 opt!(YOUNG: Given = "-E" "VALUE", Given("required"), "Young's modulus");
 opt!(NU: Given = "-nu" "VALUE", Given("required"), "Poisson's ratio, in (-1, 0.5)");
+opt!(YOUNG_BODY: Family = "-E_NAME" "VALUE", Family, "Young's modulus of the cells of body group NAME (a physical group of the mesh's dimension: Physical Surface in 2D, Physical Volume in 3D), instead of -E");
+opt!(NU_BODY: Family = "-nu_NAME" "VALUE", Family, "Poisson's ratio of the cells of body group NAME, in (-1, 0.5), instead of -nu");
+opt!(DENSITY_BODY: Family = "-density_NAME" "RHO", Family, "mass density of the cells of body group NAME, instead of -density (with -gravity)");
 opt!(PLANE_STRESS: bool = "-plane_stress" "", false, "2D: plane stress instead of plane strain");
 // Loads and supports
 opt!(DIRICHLET: Family = "-dirichlet_NAME" "ux=V,uy=V[,uz=V]", Family, "prescribed displacement components on physical group NAME (its reaction force is in the summary and the report)");
@@ -314,6 +317,9 @@ pub const ALL: &[&dyn Declared] = &[
     &PARTITION,
     &YOUNG,
     &NU,
+    &YOUNG_BODY,
+    &NU_BODY,
+    &DENSITY_BODY,
     &PLANE_STRESS,
     &DIRICHLET,
     &TRACTION,

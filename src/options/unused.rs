@@ -134,8 +134,11 @@ pub fn suggestion(name: &str, used: &[String]) -> Option<String> {
                 for k in p.saturating_sub(2)..=(p + 2).min(chars.len().saturating_sub(1)) {
                     let head: String = chars[..k].iter().collect();
                     let tail: String = chars[k..].iter().collect();
-                    if head.ends_with('_') {
-                        consider(osa_distance(&head, prefix), format!("{prefix}{tail}"));
+                    // A short prefix (`-E_`, `-nu_`) only within one
+                    // edit per four characters: `-pc_` is no `-nu_`.
+                    let dist = osa_distance(&head, prefix);
+                    if head.ends_with('_') && 4 * dist <= p {
+                        consider(dist, format!("{prefix}{tail}"));
                     }
                 }
             }
@@ -321,6 +324,13 @@ mod tests {
         assert!(looks_ours("-ubr_rtoll", &none));
         assert!(looks_ours("-frictoin", &none));
         assert!(!looks_ours("-pc_gamg_agg_nsmooths", &none));
+        // The families of a material per body: exact, and close typos.
+        assert!(declared("-E_soft") && declared("-nu_soft") && declared("-density_soft"));
+        assert_eq!(
+            suggestion("-densty_soft", &none).as_deref(),
+            Some("-density_soft")
+        );
+        assert!(!looks_ours("-pc_mg_levels", &none));
     }
 
     #[test]

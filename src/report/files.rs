@@ -337,7 +337,9 @@ fn piece_data(
         }
         cells.extend_from_slice(cell);
         offsets.push(cells.len());
-        let (sig, vm) = crate::fem::stress::cell_stress(d, &xs, &us, s.young, s.nu, s.plane_stress);
+        // Each cell's own material (-E_NAME, -nu_NAME on its body group).
+        let m = crate::fem::material::of_cell(local, s, c);
+        let (sig, vm) = crate::fem::stress::cell_stress(d, &xs, &us, m.young, m.nu, s.plane_stress);
         stress.extend_from_slice(&sig);
         von_mises.push(vm);
     }

@@ -123,6 +123,17 @@ fn header(m: &Results) {
             "plane strain"
         }
     );
+    for b in &s.materials.bodies {
+        let own = b.over(s.materials.global);
+        println!(
+            "                  body {}: E = {}, nu = {}{}",
+            b.group,
+            given(own.young),
+            given(own.nu),
+            b.density
+                .map_or(String::new(), |rho| format!(", density = {}", given(rho)))
+        );
+    }
     if s.friction != crate::options::Friction::None {
         println!("  friction        nu_f = {}", given(s.friction_coefficient));
     }
@@ -169,7 +180,7 @@ fn algorithm(m: &Results) {
         println!(
             "  r (SSN-C)       {} (r/E = {}), initial guess ({})",
             given(s.ssn_r),
-            significant(s.ssn_r / s.young, 5),
+            significant(s.ssn_r / s.stiffest(m.local.dim).young, 5),
             if shift.is_empty() {
                 "0".to_string()
             } else {
@@ -190,7 +201,8 @@ fn algorithm(m: &Results) {
         println!(
             "  r               {:.6e} (r/E = {}; {})",
             r,
-            significant(r / s.young, 5),
+            // E of the stiffest body (the global E with one material).
+            significant(r / s.stiffest(m.local.dim).young, 5),
             r_source(m.choice)
         );
         if let Some(rho) = s.ubr.rho {

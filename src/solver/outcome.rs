@@ -378,7 +378,9 @@ pub fn r_far<C: Communicator>(
 ) -> Option<f64> {
     settings.ubr.r?;
     let d = local.dim;
-    let modulus = penalty::p_wave_modulus(settings.young, settings.nu, d, settings.plane_stress);
+    // The stiffest body's modulus, as the trial r0 was made with.
+    let m = settings.stiffest(d);
+    let modulus = penalty::p_wave_modulus(m.young, m.nu, d, settings.plane_stress);
     let r0 = penalty::trial(world, local, &problem.contact, modulus);
     let ratio = problem.r() / r0;
     (!(1.0 / ubr::R_FAR..=ubr::R_FAR).contains(&ratio)).then_some(r0)

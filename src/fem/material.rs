@@ -1,0 +1,138 @@
+//! The material of each cell: the global `-E`, `-nu`, `-density`, or those
+//! of the body group it is in (`-E_NAME`, `-nu_NAME`, `-density_NAME`;
+//! [`crate::options::materials`]).
+//!
+//! Resolved on every rank from its local mesh once it is distributed: the
+//! groups and the table of sets of body groups are the whole mesh's on
+//! every rank, so every check here gives every rank the same answer (its
+//! errors are collective) without communication.
+
+use crate::error::{bad, Error};
+use crate::mesh::distribute::LocalMesh;
+use crate::mesh::CellMaterials;
+use crate::options::materials::Material;
+use crate::options::Settings;
+
+/// "E 10, nu 0.3" (and the density where it weighs): a material in words.
+fn words(m: &Material, gravity: bool) -> String {
+    if gravity {
+        format!("E {}, nu {}, density {}", m.young, m.nu, m.density)
+    } else {
+        format!("E {}, nu {}", m.young, m.nu)
+    }
+}
+
+/// The names of the mesh's body groups (its dimension), for messages.
+fn body_names(mesh: &LocalMesh) -> String {
+    let names: Vec<&str> = mesh
+        .groups
+        .iter()
+        .filter(|g| g.dim == mesh.dim)
+        .map(|g| g.name.as_str())
+        .collect();
+    if names.is_empty() {
+        let kind = if mesh.dim == 2 {
+            "Physical Surface"
+        } else {
+            "Physical Volume"
+        };
+        format!("it has none: in Gmsh, a {kind} holds the cells of a body")
+    } else {
+        format!("it has: {}", names.join(", "))
+    }
+}
+
+/// Sets `mesh.materials` from the options: the index of each option's
+/// group, the material of each set of body groups, then of each cell. Bad
+/// input: an option naming no group of the mesh's dimension, a cell in two
+/// body groups of different materials.
+pub fn resolve(mesh: &mut LocalMesh, settings: &Settings) -> Result<(), Error> {
+    let m = &settings.materials;
+    let global = Material {
+        young: settings.young,
+        nu: settings.nu,
+        density: m.global.density,
+    };
+    let gravity = m.gravity.is_some();
+    // The material of each group an option names, and that option.
+    let mut of_group: Vec<Option<(Material, String)>> = vec![None; mesh.groups.len()];
+    for b in &m.bodies {
+        let option = b.option();
+        let Some(g) = mesh.groups.iter().position(|g| g.name == b.group) else {
+            return bad(format!(
+                "option {option}: the mesh has no body group '{}' (a physical group of its dimension, {}D; {})",
+                b.group,
+                mesh.dim,
+                body_names(mesh)
+            ));
+        };
+        if mesh.groups[g].dim != mesh.dim {
+            return bad(format!(
+                "option {option}: group '{}' has dimension {}; a material needs a body group, of dimension {} ({})",
+                b.group,
+                mesh.groups[g].dim,
+                mesh.dim,
+                body_names(mesh)
+            ));
+        }
+        of_group[g] = Some((b.over(global), option));
+    }
+    let mut list = vec![global];
+    let mut set_material = Vec::with_capacity(mesh.bodies.sets.len());
+    for set in &mesh.bodies.sets {
+        let material = |g: u32| of_group[g as usize].as_ref().map_or(global, |(m, _)| *m);
+        let first = set.first().map_or(global, |&g| material(g));
+        if let Some(&other) = set.iter().find(|&&g| material(g) != first) {
+            let g0 = set[0];
+            let option = of_group[g0 as usize]
+                .as_ref()
+                .or(of_group[other as usize].as_ref())
+                .map_or(String::new(), |(_, o)| o.clone());
+            return bad(format!(
+                "option {option}: cells of the mesh are in both body groups '{}' and '{}', of different materials ({} against {}); a cell takes one material: give both groups the same, or put each cell in one",
+                mesh.groups[g0 as usize].name,
+                mesh.groups[other as usize].name,
+                words(&first, gravity),
+                words(&material(other), gravity)
+            ));
+        }
+        let k = match list.iter().position(|x| *x == first) {
+            Some(k) => k,
+            None => {
+                list.push(first);
+                list.len() - 1
+            }
+        };
+        set_material.push(k as u32);
+    }
+    let of_cell = if list.len() == 1 {
+        Vec::new()
+    } else {
+        let sets = &mesh.bodies.cell_set;
+        sets.iter().map(|&k| set_material[k as usize]).collect()
+    };
+    mesh.materials = CellMaterials { list, of_cell };
+    Ok(())
+}
+
+/// The material of local cell `c` (the global one before [`resolve`]).
+pub fn of_cell(mesh: &LocalMesh, settings: &Settings, c: usize) -> Material {
+    match mesh.materials.list.get(mesh.materials.index(c)) {
+        Some(m) => *m,
+        None => Material {
+            young: settings.young,
+            nu: settings.nu,
+            density: settings.materials.global.density,
+        },
+    }
+}
+
+/// The distinct materials of the mesh's cells, the global one first (it
+/// alone before [`resolve`]).
+pub fn list(mesh: &LocalMesh, settings: &Settings) -> Vec<Material> {
+    if mesh.materials.list.is_empty() {
+        vec![of_cell(mesh, settings, 0)]
+    } else {
+        mesh.materials.list.clone()
+    }
+}
