@@ -640,3 +640,71 @@ fn ball_on_a_block_follows_hertz() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The two cylinders of `cylinders_follow_hertz_and_ranks_agree` in two
+/// materials (per-body options): the lower of E 5000, nu 0.25, the upper of
+/// E 2000, nu 0.3, so 1/E* = (1 - 0.09)/2000 + (1 - 0.0625)/5000 (E* =
+/// 1556.4): b = 0.2089, p0 = 60.96. Measured: peak 61.41 (+0.74%), the
+/// last node in contact at x = 0.1863 (the mesh there is about 0.025).
+#[test]
+fn cylinders_of_two_materials_follow_hertz() {
+    let dir = scratch("pairs-materials");
+    let msh = mesh(&dir, "cylinders2d.geo", &[("hc", "0.0125")]);
+    let args = [
+        "-mesh",
+        &msh,
+        "-E",
+        "2000",
+        "-nu",
+        "0.3",
+        "-E_lower",
+        "5000",
+        "-nu_lower",
+        "0.25",
+        "-contact_pair",
+        "slave,master",
+        "-dirichlet_base",
+        "uy=0",
+        "-dirichlet_sym_lower",
+        "ux=0",
+        "-dirichlet_sym_upper",
+        "ux=0",
+        "-traction_top",
+        "0,-2.5",
+        "-ubr_lambda_rtol",
+        "1e-10",
+    ];
+    let (run, report, rows) = solve_rows("cylinders-materials", 2, &args);
+    assert!(report.converged, "{}", run.stdout);
+    let (f, r) = (20.0, 1.0 / (1.0 / 8.0 + 1.0 / 4.0));
+    let es = 1.0 / ((1.0 - 0.09) / 2000.0 + (1.0 - 0.0625) / 5000.0);
+    let b = (4.0 * f * r / (std::f64::consts::PI * es)).sqrt();
+    let p0 = 2.0 * f / (std::f64::consts::PI * b);
+    let peak = rows.iter().map(|r| r.lambda_n).fold(0.0, f64::max);
+    let edge = rows
+        .iter()
+        .filter(|r| r.lambda_n > 1e-6 * p0)
+        .map(|r| r.x[0])
+        .fold(0.0, f64::max);
+    assert!(
+        (peak - p0).abs() < 0.02 * p0,
+        "peak {peak} against Hertz {p0}"
+    );
+    assert!(
+        (edge - b).abs() < 0.03,
+        "half-width {edge} against Hertz {b}"
+    );
+    // The same scene with the upper's material for both: another answer.
+    let same: Vec<&str> = args
+        .iter()
+        .copied()
+        .filter(|a| !["-E_lower", "5000", "-nu_lower", "0.25"].contains(a))
+        .collect();
+    let (_, _, rows1) = solve_rows("cylinders-one-material", 2, &same);
+    let peak1 = rows1.iter().map(|r| r.lambda_n).fold(0.0, f64::max);
+    assert!(
+        peak > 1.15 * peak1,
+        "stiffer lower body: {peak} against {peak1}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
