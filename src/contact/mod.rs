@@ -15,6 +15,7 @@ pub mod mesh_obstacle;
 pub mod mortar;
 pub mod mortar3d;
 pub mod obstacle;
+pub mod search;
 pub mod surface;
 
 /// Candidates owned by this rank.

@@ -247,6 +247,12 @@ pub fn mortar_rows(
 ) -> Vec<MortarNode> {
     let mut sums: HashMap<usize, Sums> = HashMap::new();
     let gauss = [-1.0 / 3f64.sqrt(), 1.0 / 3f64.sqrt()];
+    let search = super::search::Search::new(
+        master
+            .iter()
+            .map(|m| super::search::bounds(m.x.iter().map(|p| &p[..])))
+            .collect(),
+    );
     for s in slave {
         if !s.nodes.iter().any(|&v| wanted(v)) {
             continue;
@@ -262,10 +268,15 @@ pub fn mortar_rows(
             }
         }
         // The master segments facing s, and the nearest layer of them.
-        let found: Vec<(usize, Overlap)> = master
-            .iter()
-            .enumerate()
-            .filter_map(|(j, m)| overlap(s, m).map(|o| (j, o)))
+        let near = search.near(
+            &s.x.map(|p| [p[0], p[1], 0.0]),
+            [s.normal[0], s.normal[1], 0.0],
+            len,
+            |j| overlap(s, &master[j]).map(|o| o.dist),
+        );
+        let found: Vec<(usize, Overlap)> = near
+            .into_iter()
+            .filter_map(|j| overlap(s, &master[j]).map(|o| (j, o)))
             .collect();
         let Some(nearest) = found.iter().map(|f| f.1.dist).reduce(f64::min) else {
             continue;

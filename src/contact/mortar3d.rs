@@ -371,6 +371,12 @@ pub fn mortar_rows(
     wanted: impl Fn(usize) -> bool,
 ) -> Vec<MortarNode> {
     let mut sums: HashMap<usize, Sums> = HashMap::new();
+    let search = super::search::Search::new(
+        master
+            .iter()
+            .map(|m| super::search::bounds(m.x.iter().map(|p| &p[..])))
+            .collect(),
+    );
     for s in slave.iter().filter(|s| s.nodes.iter().any(|&v| wanted(v))) {
         let plane = Plane::of(s);
         // The slave's plane points in its own order (for its local
@@ -391,17 +397,32 @@ pub fn mortar_rows(
             p.reverse();
         }
         // The facing master facets, clipped; the nearest layer of them.
-        let mut found = Vec::new();
-        for m in master.iter().filter(|m| dot(m.normal, s.normal) < 0.0) {
+        let clipped = |m: &Facet| {
             let q: Vec<[f64; 2]> = m.x.iter().map(|&x| plane.at(x)).collect();
             let mut qc = q.clone();
             if area2(&qc) < 0.0 {
                 qc.reverse();
             }
             let poly = clip(&qc, &p);
-            if poly.len() < 3 || area2(&poly) <= 1e-12 * size * size {
-                continue;
+            (poly.len() >= 3 && area2(&poly) > 1e-12 * size * size).then_some((q, poly))
+        };
+        let near = search.near(&s.x, s.normal, size, |j| {
+            let m = &master[j];
+            if dot(m.normal, s.normal) >= 0.0 {
+                return None;
             }
+            // (Its distance along the normal, bounded by its corners'.)
+            clipped(m).map(|_| {
+                m.x.iter()
+                    .map(|&x| dot(sub(x, plane.c), plane.n).abs())
+                    .fold(0.0, f64::max)
+            })
+        });
+        let mut found = Vec::new();
+        for m in near.into_iter().map(|j| &master[j]) {
+            let Some((q, poly)) = clipped(m) else {
+                continue;
+            };
             let c = [
                 poly.iter().map(|v| v[0]).sum::<f64>() / poly.len() as f64,
                 poly.iter().map(|v| v[1]).sum::<f64>() / poly.len() as f64,
