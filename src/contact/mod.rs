@@ -226,7 +226,7 @@ impl ContactSet {
     }
 
     /// Adds the slave nodes of the contact pairs (`settings.pairs`) as
-    /// candidates, with their mortar rows ([`mortar`]); 2D.
+    /// candidates, with their mortar rows ([`mortar`] in 2D, [`mortar3d`]).
     pub fn add_pairs<C: mpi::traits::Communicator>(
         &mut self,
         world: &C,
@@ -307,16 +307,20 @@ fn pair_rows<C: mpi::traits::Communicator>(
         }
     };
     if mesh.dim == 3 {
-        let slave = mortar3d::gather_facets(world, &mortar3d::local_facets(mesh, opt, s)?);
-        let master = mortar3d::gather_facets(world, &mortar3d::local_facets(mesh, opt, m)?);
+        let mine_s = agreed(world, mortar3d::local_facets(mesh, opt, s))?;
+        let mine_m = agreed(world, mortar3d::local_facets(mesh, opt, m))?;
+        let slave = mortar3d::gather_facets(world, &mine_s);
+        let master = mortar3d::gather_facets(world, &mine_m);
         empty(s, slave.len())?;
         empty(m, master.len())?;
         let rows = mortar3d::mortar_rows(&slave, &master, mine);
         let nodes = |f: &[mortar3d::Facet]| f.iter().flat_map(|x| x.nodes.clone()).collect();
         return Ok((rows, nodes(&slave), nodes(&master)));
     }
-    let slave = mortar::gather_segments(world, &mortar::local_segments(mesh, opt, s)?);
-    let master = mortar::gather_segments(world, &mortar::local_segments(mesh, opt, m)?);
+    let mine_s = agreed(world, mortar::local_segments(mesh, opt, s))?;
+    let mine_m = agreed(world, mortar::local_segments(mesh, opt, m))?;
+    let slave = mortar::gather_segments(world, &mine_s);
+    let master = mortar::gather_segments(world, &mine_m);
     empty(s, slave.len())?;
     empty(m, master.len())?;
     let rows = if settings.pair_node_to_segment {
@@ -326,6 +330,33 @@ fn pair_rows<C: mpi::traits::Communicator>(
     };
     let nodes = |f: &[mortar::Segment]| f.iter().flat_map(|x| x.nodes).collect();
     Ok((rows, nodes(&slave), nodes(&master)))
+}
+
+/// `local` on every rank, or the error of the lowest rank that failed on
+/// every rank (a facet's fault is seen by the rank that holds it; every
+/// rank must stop with the same message, not wait in the gathering).
+fn agreed<C: mpi::traits::Communicator, T>(world: &C, local: Result<T, Error>) -> Result<T, Error> {
+    use mpi::traits::*;
+    let me = world.rank();
+    let mut first = 0i32;
+    let mine = if local.is_err() { -me } else { i32::MIN };
+    world.all_reduce_into(&mine, &mut first, mpi::collective::SystemOperation::max());
+    if first == i32::MIN {
+        return local;
+    }
+    let root = world.process_at_rank(-first);
+    let mut text = match &local {
+        Err(e) => e.to_string().into_bytes(),
+        Ok(_) => Vec::new(),
+    };
+    let mut len = text.len() as u64;
+    root.broadcast_into(&mut len);
+    text.resize(len as usize, 0);
+    root.broadcast_into(&mut text[..]);
+    let msg = String::from_utf8_lossy(&text);
+    Err(Error::BadInput(
+        msg.strip_prefix("error: ").unwrap_or(&msg).to_string(),
+    ))
 }
 
 /// The obstacle's points against the mesh's dimension; `single`: the
