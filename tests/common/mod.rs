@@ -50,7 +50,13 @@ pub fn python() -> String {
 
 /// A fresh scratch directory for one test.
 pub fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("ubr-test-{}-{}", name, std::process::id()));
+    // Unique per call: two tests of one binary (one process) that ask for
+    // the same name at once (the converged reference of one scene) must not
+    // remove each other's directory (seen in CI: "cannot write
+    // .../contact.csv: No such file or directory").
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let d = std::env::temp_dir().join(format!("ubr-test-{}-{}-{call}", name, std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
