@@ -224,18 +224,67 @@ fn lerp(s: &Segment, xi: f64) -> [f64; 2] {
     [a * s.x[0][0] + b * s.x[1][0], a * s.x[0][1] + b * s.x[1][1]]
 }
 
-/// Accumulated integrals of one slave node.
+/// Accumulated integrals of one slave node (3 coordinates: the 3D mortar
+/// shares them, [`super::mortar3d`]; 0 beyond the mesh's dimension).
 #[derive(Default)]
-struct Sums {
-    x: [f64; 2],
-    normal: [f64; 2],
+pub(super) struct Sums {
+    pub(super) x: [f64; 3],
+    /// The facet normals weighted by `int N_k` (summed).
+    pub(super) normal: [f64; 3],
     /// `int N_k` over the whole support and over the covered part.
-    full: f64,
-    covered: f64,
+    pub(super) full: f64,
+    pub(super) covered: f64,
     /// `M_kj` by master node.
-    m: HashMap<usize, f64>,
+    pub(super) m: HashMap<usize, f64>,
     /// Master nodes' coordinates.
-    xm: HashMap<usize, [f64; 2]>,
+    pub(super) xm: HashMap<usize, [f64; 3]>,
+}
+
+fn lift(p: [f64; 2]) -> [f64; 3] {
+    [p[0], p[1], 0.0]
+}
+
+/// The rows from the sums: a node less than half covered is no candidate;
+/// `P_kj = M_kj / sum_j M_kj` (round-off entries, where a master element
+/// only touches the support at its edge, dropped), the averaged normal,
+/// the weighted gap and the image `sum_j P_kj x_j`; `dim` values each.
+pub(super) fn rows(sums: HashMap<usize, Sums>, dim: usize) -> Vec<MortarNode> {
+    let dot3 = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let mut out: Vec<MortarNode> = sums
+        .into_iter()
+        .filter_map(|(node, e)| {
+            let total: f64 = e.m.values().sum();
+            if e.covered < 0.5 * e.full || total < 0.25 * e.full {
+                return None;
+            }
+            let nn = dot3(e.normal, e.normal).sqrt();
+            let normal = e.normal.map(|v| v / nn);
+            let mut row: Vec<(usize, f64)> =
+                e.m.iter()
+                    .map(|(&j, &v)| (j, v / total))
+                    .filter(|&(_, p)| p.abs() > 1e-12)
+                    .collect();
+            let kept: f64 = row.iter().map(|r| r.1).sum();
+            row.iter_mut().for_each(|r| r.1 /= kept);
+            row.sort_unstable_by_key(|&(j, _)| j);
+            let mut proj = [0.0; 3];
+            for &(j, p) in &row {
+                let x = e.xm[&j];
+                (0..3).for_each(|c| proj[c] += p * x[c]);
+            }
+            let d = [proj[0] - e.x[0], proj[1] - e.x[1], proj[2] - e.x[2]];
+            Some(MortarNode {
+                node,
+                w: e.covered,
+                normal: normal[..dim].to_vec(),
+                gap: dot3(normal, d),
+                row,
+                point: proj[..dim].to_vec(),
+            })
+        })
+        .collect();
+    out.sort_unstable_by_key(|m| m.node);
+    out
 }
 
 /// The mortar rows of the slave nodes for which `wanted(node)` holds.
@@ -261,7 +310,7 @@ pub fn mortar_rows(
         for (k, &v) in s.nodes.iter().enumerate() {
             if wanted(v) {
                 let e = sums.entry(v).or_default();
-                e.x = s.x[k];
+                e.x = lift(s.x[k]);
                 e.normal[0] += len * s.normal[0];
                 e.normal[1] += len * s.normal[1];
                 e.full += len / 2.0;
@@ -314,49 +363,13 @@ pub fn mortar_rows(
                     e.covered += n[k] * jw;
                     for (l, &mv) in m.nodes.iter().enumerate() {
                         *e.m.entry(mv).or_insert(0.0) += psi[k] * nm[l] * jw;
-                        e.xm.insert(mv, m.x[l]);
+                        e.xm.insert(mv, lift(m.x[l]));
                     }
                 }
             }
         }
     }
-    let mut out: Vec<MortarNode> = sums
-        .into_iter()
-        .filter_map(|(node, e)| {
-            let total: f64 = e.m.values().sum();
-            if e.covered < 0.5 * e.full || total < 0.25 * e.full {
-                return None;
-            }
-            let nn = dot(e.normal, e.normal).sqrt();
-            let normal = [e.normal[0] / nn, e.normal[1] / nn];
-            // (Round-off entries, where a master segment only touches the
-            // support at its end, are dropped.)
-            let mut row: Vec<(usize, f64)> =
-                e.m.iter()
-                    .map(|(&j, &v)| (j, v / total))
-                    .filter(|&(_, p)| p.abs() > 1e-12)
-                    .collect();
-            let kept: f64 = row.iter().map(|r| r.1).sum();
-            row.iter_mut().for_each(|r| r.1 /= kept);
-            row.sort_unstable_by_key(|&(j, _)| j);
-            let mut proj = [0.0; 2];
-            for &(j, p) in &row {
-                let x = e.xm[&j];
-                proj[0] += p * x[0];
-                proj[1] += p * x[1];
-            }
-            Some(MortarNode {
-                node,
-                w: e.covered,
-                normal: normal.to_vec(),
-                gap: dot(normal, sub(proj, e.x)),
-                row,
-                point: proj.to_vec(),
-            })
-        })
-        .collect();
-    out.sort_unstable_by_key(|m| m.node);
-    out
+    rows(sums, 2)
 }
 
 /// The node-to-segment rows (`-contact_pair_scheme node_to_segment`, for
@@ -375,7 +388,7 @@ pub fn node_to_segment_rows(
         let len = s.length();
         for (k, &v) in s.nodes.iter().enumerate().filter(|(_, &v)| wanted(v)) {
             let e = sums.entry(v).or_default();
-            e.x = s.x[k];
+            e.x = lift(s.x[k]);
             e.normal[0] += len * s.normal[0];
             e.normal[1] += len * s.normal[1];
             e.full += len / 2.0;
@@ -384,7 +397,8 @@ pub fn node_to_segment_rows(
     let mut out: Vec<MortarNode> = sums
         .into_iter()
         .filter_map(|(node, e)| {
-            let nn = dot(e.normal, e.normal).sqrt();
+            let x = [e.x[0], e.x[1]];
+            let nn = e.normal[0].hypot(e.normal[1]);
             let n = [e.normal[0] / nn, e.normal[1] / nn];
             // x + t n = a + s (b - a): the nearest hit, |t| smallest.
             let mut best: Option<(f64, &Segment, f64)> = None;
@@ -394,7 +408,7 @@ pub fn node_to_segment_rows(
                 if det.abs() < 1e-14 * dot(ab, ab).sqrt() {
                     continue;
                 }
-                let r = sub(m.x[0], e.x);
+                let r = sub(m.x[0], x);
                 let t = (r[0] * (-ab[1]) - r[1] * (-ab[0])) / det;
                 let sp = (n[0] * r[1] - n[1] * r[0]) / det;
                 if (-1e-12..=1.0 + 1e-12).contains(&sp) && best.is_none_or(|b| t.abs() < b.0.abs())
@@ -412,7 +426,7 @@ pub fn node_to_segment_rows(
                 normal: n.to_vec(),
                 gap: t,
                 row,
-                point: vec![e.x[0] + t * n[0], e.x[1] + t * n[1]],
+                point: vec![x[0] + t * n[0], x[1] + t * n[1]],
             })
         })
         .collect();

@@ -13,7 +13,7 @@
 //! delta_kl int N_l` (on a triangle, `psi_k = 4 lambda_k - 1`). Rows,
 //! weights, gaps and the coverage rule are those of the 2D mortar.
 
-use super::mortar::MortarNode;
+use super::mortar::{rows, MortarNode, Sums};
 use crate::comm::Layout;
 use crate::error::{bad, Error};
 use crate::mesh::distribute::LocalMesh;
@@ -353,17 +353,6 @@ fn dual(p: &[[f64; 2]]) -> (DMatrix<f64>, Vec<f64>) {
     )
 }
 
-/// Accumulated integrals of one slave node (as in 2D).
-#[derive(Default)]
-struct Sums {
-    x: V3,
-    normal: V3,
-    full: f64,
-    covered: f64,
-    m: HashMap<usize, f64>,
-    xm: HashMap<usize, V3>,
-}
-
 /// The mortar rows of the slave nodes for which `wanted(node)` holds.
 pub fn mortar_rows(
     slave: &[Facet],
@@ -444,7 +433,7 @@ pub fn mortar_rows(
             integrate(s, &ps, &a, m, q, poly, &wanted, &mut sums);
         }
     }
-    rows(sums)
+    rows(sums, 3)
 }
 
 /// Adds the part of slave facet `s` (plane points `p`, in its own order;
@@ -494,45 +483,6 @@ fn integrate(
             }
         }
     }
-}
-
-/// The rows from the sums: the 2D mortar's rules.
-fn rows(sums: HashMap<usize, Sums>) -> Vec<MortarNode> {
-    let mut out: Vec<MortarNode> = sums
-        .into_iter()
-        .filter_map(|(node, e)| {
-            let total: f64 = e.m.values().sum();
-            if e.covered < 0.5 * e.full || total < 0.25 * e.full {
-                return None;
-            }
-            let normal = unit(e.normal);
-            let mut row: Vec<(usize, f64)> =
-                e.m.iter()
-                    .map(|(&j, &v)| (j, v / total))
-                    .filter(|&(_, p)| p.abs() > 1e-12)
-                    .collect();
-            let kept: f64 = row.iter().map(|r| r.1).sum();
-            row.iter_mut().for_each(|r| r.1 /= kept);
-            row.sort_unstable_by_key(|&(j, _)| j);
-            let mut proj = [0.0; 3];
-            for &(j, p) in &row {
-                let x = e.xm[&j];
-                for c in 0..3 {
-                    proj[c] += p * x[c];
-                }
-            }
-            Some(MortarNode {
-                node,
-                w: e.covered,
-                normal: normal.to_vec(),
-                gap: dot(normal, sub(proj, e.x)),
-                row,
-                point: proj.to_vec(),
-            })
-        })
-        .collect();
-    out.sort_unstable_by_key(|m| m.node);
-    out
 }
 
 #[cfg(test)]
