@@ -178,6 +178,9 @@ pub struct UbrSettings {
     pub condense_max: Option<usize>,
     /// Several ranks: MUMPS returns the Schur complement distributed.
     pub schur_distributed: bool,
+    /// MUMPS' full solves with distributed right-hand sides and solutions
+    /// (`-ubr_mumps_rhs distributed`), else through rank 0.
+    pub distributed_rhs: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -643,6 +646,7 @@ fn ubr_settings() -> Result<UbrSettings, Error> {
         sbaij: UBR_SBAIJ.get()?,
         condense_max: UBR_CONDENSE_MAX.count()?,
         schur_distributed: UBR_SCHUR_DISTRIBUTED.get()?,
+        distributed_rhs: UBR_MUMPS_RHS.get()? == "distributed",
         dual_rtol: positive(
             UBR_DUAL_RTOL.name,
             UBR_DUAL_RTOL.real()?.unwrap_or(10.0 * rtol),

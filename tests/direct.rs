@@ -358,6 +358,89 @@ fn distributed_schur_equals_centralized() {
     }
 }
 
+/// Full solves with MUMPS' distributed right-hand sides and solutions
+/// (the default; issue "Scaling studies", item 3) against the centralized
+/// ones (`-ubr_mumps_rhs centralized`): the same contact stresses and
+/// displacements to round-off on 1, 2 and 3 ranks, condensed (the
+/// condensation and the expansion) and uncondensed (every UBR solve a full
+/// one), 2D and 3D, frictionless and Coulomb; a bad value exits 2.
+#[test]
+fn distributed_rhs_equals_centralized() {
+    let tight = ["-ubr_lambda_rtol", "1e-10"];
+    let scenes: [Vec<&str>; 3] = [
+        [
+            &[
+                "-options_file",
+                "options/hertz",
+                "-mesh",
+                "meshes/hertz_1692.msh",
+            ][..],
+            &tight,
+        ]
+        .concat(),
+        [
+            &[
+                "-options_file",
+                "options/hertz",
+                "-mesh",
+                "meshes/hertz_1692.msh",
+                "-ubr_condense_max",
+                "0",
+            ][..],
+            &tight,
+        ]
+        .concat(),
+        [
+            &[
+                "-options_file",
+                "options/block3d-coulomb",
+                "-mesh",
+                "meshes/block3d_739.msh",
+            ][..],
+            &tight,
+        ]
+        .concat(),
+    ];
+    for (k, scene) in scenes.iter().enumerate() {
+        for ranks in [1, 2, 3] {
+            let (_, _, dist) = solve_rows(&format!("rhs_d{k}_{ranks}"), ranks, scene);
+            let mut args = scene.clone();
+            args.extend_from_slice(&["-ubr_mumps_rhs", "centralized"]);
+            let (_, _, central) = solve_rows(&format!("rhs_c{k}_{ranks}"), ranks, &args);
+            assert_eq!(dist.len(), central.len());
+            let peak = central.iter().map(|r| r.lambda_n.abs()).fold(0.0, f64::max);
+            let umax = central.iter().map(|r| r.un.abs()).fold(0.0, f64::max);
+            for (a, b) in dist.iter().zip(&central) {
+                assert!(
+                    (a.lambda_n - b.lambda_n).abs() <= 1e-10 * peak,
+                    "scene {k}, -n {ranks}: pressure {} against {}",
+                    a.lambda_n,
+                    b.lambda_n
+                );
+                assert!(
+                    (a.un - b.un).abs() <= 1e-10 * umax,
+                    "scene {k}, -n {ranks}: u_n {} against {}",
+                    a.un,
+                    b.un
+                );
+                for c in 0..3 {
+                    assert!((a.lambda_t[c] - b.lambda_t[c]).abs() <= 1e-10 * peak);
+                    assert!((a.ut[c] - b.ut[c]).abs() <= 1e-10 * umax);
+                }
+            }
+        }
+    }
+    let mut args = scenes[0].clone();
+    args.extend_from_slice(&["-ubr_mumps_rhs", "scattered"]);
+    for ranks in [1, 2] {
+        mpirun(ranks, &args).refused(
+            "-ubr_mumps_rhs scattered",
+            2,
+            &["-ubr_mumps_rhs", "scattered"],
+        );
+    }
+}
+
 /// The parallel nested dissection (issue "Scaling studies", item 1): on 2,
 /// 3 and 4 ranks every rank orders its own part; the contact stresses equal
 /// the one-rank run's (METIS on rank 0) to 1e-8 at a tight tolerance, 2D

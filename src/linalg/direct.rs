@@ -17,16 +17,20 @@
 //!   (ICNTL(26) = 1), a dense solve with S, an expansion (ICNTL(26) = 2).
 //!   A condensed UBR solve gathers the m contact values of the right-hand
 //!   side on the host, solves with S there and scatters the result back.
-//! - Right-hand sides and solutions are centralized on the host (ICNTL(20) =
-//!   ICNTL(21) = 0) and moved by one gather and one scatter.
+//! - Full solves hand MUMPS each rank's rows of the right-hand sides and
+//!   send its distributed solution to the rows' owners (ICNTL(20) = 10,
+//!   ICNTL(21) = 1; [`super::distsol`]); `-ubr_mumps_rhs centralized`
+//!   gathers them on the host and scatters the solutions from there
+//!   (ICNTL(20) = ICNTL(21) = 0).
 //!
 //! The usual `-mat_mumps_icntl_N` / `-mat_mumps_cntl_N` options are passed
 //! on, except those this back-end sets: 5, 18 (input format), 19, 26 (Schur),
-//! 20, 21 (centralized right-hand sides), and 28 with METIS;
+//! 20, 21 (right-hand sides and solutions), and 28 with METIS;
 //! `-mat_mumps_icntl_7 1` asks for METIS, `-mat_mumps_icntl_7 K` with K
 //! other than 1 for MUMPS' own ordering K (with a Schur complement MUMPS
 //! may replace it by AMD).
 
+use super::distsol::DistSolve;
 pub use super::schur::SchurLayout;
 use super::schur::{host_schur, schur_factor, schur_memory, SCHUR_BLOCK};
 use crate::comm::{allreduce_max, allreduce_sum, Layout};
@@ -79,8 +83,11 @@ pub struct Direct {
     pub flops: f64,
     pub ordering: String,
     /// Host: the gathered right-hand sides of a full solve, kept between
-    /// solves.
+    /// solves (centralized right-hand sides only).
     all: Vec<f64>,
+    /// Distributed right-hand sides and solutions (the default;
+    /// None after [`Direct::centralize_rhs`]).
+    dist: Option<DistSolve>,
     /// Which of this rank's lower-triangle entries MUMPS has
     /// ([`lower_triplets`]).
     kept: Vec<bool>,
@@ -462,6 +469,7 @@ impl Direct {
             flops: 0.0,
             ordering,
             all: Vec::new(),
+            dist: Some(DistSolve::new(world, mesh.owned_count * d)),
             kept,
             reduced: 0,
             failure: None,
@@ -497,6 +505,13 @@ impl Direct {
             });
         }
         Ok(direct)
+    }
+
+    /// Full solves gather the right-hand sides on the host and scatter the
+    /// solutions from there (`-ubr_mumps_rhs centralized`), instead of
+    /// MUMPS' distributed right-hand sides and solutions.
+    pub fn centralize_rhs(&mut self) {
+        self.dist = None;
     }
 
     /// An analysis or factorization that failed in a way the run reports
@@ -595,29 +610,72 @@ impl Direct {
         self.usable()?;
         let _e = self.ev_solve.begin();
         let host = world.rank() == 0;
-        let mut all = self.gather_columns(world, cols, k);
         self.reduced = 0;
-        match &mut self.schur {
-            None => self.mumps.solve(&mut all, k, 0)?,
-            Some(sp) => {
-                self.mumps.solve(&mut all, k, 1)?;
-                // The dense solves on the host; their failure is made
-                // collective before the next MUMPS call.
-                let mut status = 0.0f64;
-                if host {
-                    let m = sp.m;
-                    let s = sp.s.as_ref().expect("the host has S");
-                    let red = self.mumps.redrhs_mut();
-                    for j in 0..k {
-                        if s.solve(&red[j * m..(j + 1) * m], &mut sp.sol).is_err() {
-                            status = 1.0;
-                        }
-                        red[j * m..(j + 1) * m].copy_from_slice(&sp.sol);
-                    }
+        let Some(m) = self.schur.as_ref().map(|sp| sp.m) else {
+            return self.mumps_solve(world, cols, k, 0);
+        };
+        self.mumps_solve(world, cols, k, 1)?;
+        // The dense solves on the host; their failure is made collective
+        // before the next MUMPS call.
+        let sp = self.schur.as_mut().expect("condensed");
+        let mut status = 0.0f64;
+        if host {
+            let s = sp.s.as_ref().expect("the host has S");
+            let red = self.mumps.redrhs_mut();
+            for j in 0..k {
+                if s.solve(&red[j * m..(j + 1) * m], &mut sp.sol).is_err() {
+                    status = 1.0;
                 }
-                host_failed(world, status != 0.0, "the dense Schur solve failed")?;
-                self.mumps.solve(&mut all, k, 2)?;
+                red[j * m..(j + 1) * m].copy_from_slice(&sp.sol);
             }
+        }
+        host_failed(world, status != 0.0, "the dense Schur solve failed")?;
+        self.mumps_expand(world, cols, k)
+    }
+
+    /// One MUMPS solve of the `k` columns of `cols` (this rank's rows of
+    /// each, column-major): the whole solve without Schur complement
+    /// (`schur_phase` 0, the solutions into `cols`) or the condensation (1,
+    /// the reduced right-hand sides on the host, `cols` unchanged), with
+    /// distributed right-hand sides and solutions or through the host.
+    fn mumps_solve<C: Communicator>(
+        &mut self,
+        world: &C,
+        cols: &mut [f64],
+        k: usize,
+        schur_phase: i32,
+    ) -> Result<(), Error> {
+        if let Some(dist) = self.dist.as_mut() {
+            return dist.solve(world, &mut self.mumps, cols, k, schur_phase);
+        }
+        let mut all = self.gather_columns(world, cols, k);
+        let r = self.mumps.solve(&mut all, k, schur_phase);
+        if r.is_ok() && schur_phase == 0 {
+            self.scatter_columns(world, all, k, cols);
+        } else {
+            self.all = all;
+        }
+        r
+    }
+
+    /// The expansion (ICNTL(26) = 2) of the last condensation from the
+    /// Schur solutions in MUMPS' REDRHS: `k` whole solutions into `cols`.
+    fn mumps_expand<C: Communicator>(
+        &mut self,
+        world: &C,
+        cols: &mut [f64],
+        k: usize,
+    ) -> Result<(), Error> {
+        if let Some(dist) = self.dist.as_mut() {
+            return dist.expand(world, &mut self.mumps, cols, k);
+        }
+        let mut all = std::mem::take(&mut self.all);
+        if world.rank() == 0 {
+            all.resize(self.dofs.total() * k, 0.0);
+        }
+        if let Err(e) = self.mumps.solve(&mut all, k, 2) {
+            self.all = all;
+            return Err(e);
         }
         self.scatter_columns(world, all, k, cols);
         Ok(())
@@ -644,20 +702,11 @@ impl Direct {
         let _e = self.ev_solve.begin();
         let host = world.rank() == 0;
         let keep = keep.max(1);
-        let mut all = self.gather_columns(world, b, 1);
-        if host {
-            let n = all.len();
-            all.resize(n * keep, 0.0);
-            for j in 1..keep {
-                all.copy_within(..n, j * n);
-            }
-        }
+        let mut cols = b.repeat(keep);
         self.reduced = 0;
-        let sp = self.schur.as_mut().expect("condensed");
-        let r = self.mumps.solve(&mut all, keep, 1);
-        self.all = all;
-        r?;
+        self.mumps_solve(world, &mut cols, keep, 1)?;
         self.reduced = keep;
+        let sp = self.schur.as_mut().expect("condensed");
         let failed = host && {
             let s = sp.s.as_ref().expect("the host has S");
             s.solve(&self.mumps.redrhs_mut()[..sp.m], &mut sp.sol)
@@ -690,7 +739,6 @@ impl Direct {
         self.reduced = 0;
         let _e = self.ev_solve.begin();
         let host = world.rank() == 0;
-        let n = self.dofs.total();
         let sp = self.schur.as_mut().expect("condensed");
         let part = xs.len() / k;
         let m = sp.m;
@@ -701,15 +749,7 @@ impl Direct {
                 self.mumps.redrhs_mut()[j * m..(j + 1) * m].copy_from_slice(&sp.rhs);
             }
         }
-        let mut all = std::mem::take(&mut self.all);
-        if host {
-            all.resize(n * k, 0.0);
-        }
-        if let Err(e) = self.mumps.solve(&mut all, k, 2) {
-            self.all = all;
-            return Err(e);
-        }
-        self.scatter_columns(world, all, k, cols);
+        self.mumps_expand(world, cols, k)?;
         Ok(true)
     }
 

@@ -4,6 +4,7 @@
 //! applies `K_r^{-1}` to UBR's right-hand sides ([`linear`]).
 
 pub mod direct;
+mod distsol;
 pub mod linear;
 pub mod ordering;
 mod schur;

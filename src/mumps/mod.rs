@@ -389,6 +389,61 @@ impl Mumps {
         r
     }
 
+    /// Solve (JOB = 3) with distributed right-hand sides and solutions
+    /// (ICNTL(20) = 10, ICNTL(21) = 1): `rhs` holds this rank's rows
+    /// `irhs` (1-based global indices, each row on one rank) of `nrhs`
+    /// columns (column-major, leading dimension `irhs.len()`); the
+    /// solutions' rows that MUMPS keeps on this rank (the pivots it
+    /// eliminated here, INFO(23) of them, fixed by the factorization) come
+    /// back in `sol` (column-major, leading dimension `isol.len()`) with
+    /// their 1-based indices in `isol`. `schur_phase` as in
+    /// [`Mumps::solve`]; the condensation (1) writes no solution.
+    pub fn solve_distributed(
+        &mut self,
+        rhs: &mut [f64],
+        irhs: &mut [i32],
+        nrhs: usize,
+        schur_phase: i32,
+        sol: &mut Vec<f64>,
+        isol: &mut Vec<i32>,
+    ) -> Result<(), Error> {
+        let nloc = irhs.len();
+        assert_eq!(rhs.len(), nloc * nrhs);
+        let mine = self.id.info[22].max(0) as usize;
+        isol.resize(mine, 0);
+        sol.resize(mine.max(1) * nrhs, 0.0);
+        icntl!(self.id, 20) = 10;
+        icntl!(self.id, 21) = 1;
+        icntl!(self.id, 26) = schur_phase;
+        self.id.nrhs = nrhs as i32;
+        self.id.nloc_rhs = nloc as i32;
+        self.id.lrhs_loc = nloc.max(1) as i32;
+        self.id.rhs_loc = rhs.as_mut_ptr();
+        self.id.irhs_loc = irhs.as_mut_ptr();
+        self.id.lsol_loc = mine.max(1) as i32;
+        self.id.sol_loc = sol.as_mut_ptr();
+        self.id.isol_loc = isol.as_mut_ptr();
+        if self.host && schur_phase != 0 {
+            let m = self.id.size_schur as usize;
+            if self.redrhs.len() != m * nrhs {
+                self.redrhs.resize(m * nrhs, 0.0);
+            }
+            self.id.redrhs = self.redrhs.as_mut_ptr();
+            self.id.lredrhs = m as i32;
+        }
+        let r = self.run(3, "solve");
+        // The arrays are the caller's again: no pointer to them is left
+        // behind.
+        self.id.rhs_loc = std::ptr::null_mut();
+        self.id.irhs_loc = std::ptr::null_mut();
+        self.id.sol_loc = std::ptr::null_mut();
+        self.id.isol_loc = std::ptr::null_mut();
+        icntl!(self.id, 20) = 0;
+        icntl!(self.id, 21) = 0;
+        icntl!(self.id, 26) = 0;
+        r
+    }
+
     /// The reduced right-hand sides / Schur solutions (host), `nrhs`
     /// columns of the Schur complement's order.
     pub fn redrhs_mut(&mut self) -> &mut [f64] {

@@ -145,13 +145,22 @@ fn ubr_rules(r: &mut Rules, s: &Settings, solver_read: &[String]) {
         }
         if !s.linear.default_direct() {
             r.rule(
-                &[UBR_MUMPS_DIRECT.name, UBR_CONDENSE_MAX.name, UBR_SCHUR_DISTRIBUTED.name],
+                &[
+                    UBR_MUMPS_DIRECT.name,
+                    UBR_CONDENSE_MAX.name,
+                    UBR_SCHUR_DISTRIBUTED.name,
+                    UBR_MUMPS_RHS.name,
+                ],
                 "it applies to the default direct solver (a MUMPS factorization, -ksp_type preonly), and the PETSc options choose another",
             );
         } else if !s.ubr.mumps_direct {
             r.rule(
                 &[UBR_CONDENSE_MAX.name, UBR_SCHUR_DISTRIBUTED.name],
                 "the condensation needs MUMPS driven by the program (-ubr_mumps_direct 1), and -ubr_mumps_direct is 0",
+            );
+            r.rule(
+                &[UBR_MUMPS_RHS.name],
+                "it applies to MUMPS driven by the program (-ubr_mumps_direct 1), and -ubr_mumps_direct is 0",
             );
         }
         if !s.linear.iterative() {

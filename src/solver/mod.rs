@@ -476,7 +476,10 @@ fn engine<C: Communicator>(
         } else {
             direct::SchurLayout::Centralized
         });
-        let dm = direct::Direct::new(world, a, mesh, adjacency, surface, layout, comps)?;
+        let mut dm = direct::Direct::new(world, a, mesh, adjacency, surface, layout, comps)?;
+        if !settings.ubr.distributed_rhs {
+            dm.centralize_rhs();
+        }
         let description = format!(
             "MUMPS Cholesky, called directly ({}; {:.3e} flops)",
             dm.ordering, dm.flops
