@@ -21,6 +21,7 @@ pub mod block3d_parts;
 pub mod distribute;
 pub mod gmsh;
 pub mod hertz2d;
+mod scatter;
 
 use crate::error::{bad, Error};
 use crate::options::materials::Material;
