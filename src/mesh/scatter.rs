@@ -101,12 +101,20 @@ impl<'a> Parts<'a> {
     fn make(&mut self, p: usize) -> RawPart {
         let (mesh, d) = (self.mesh, self.mesh.dim);
         let cells_p = std::mem::take(&mut self.cells_of[p]);
+        // The owned nodes and, once each, the others the cells use.
         let mut nodes = std::mem::take(&mut self.owned[p]);
+        for &v in &nodes {
+            self.index[v] = 0;
+        }
         for &c in &cells_p {
-            nodes.extend_from_slice(mesh.cells.get(c));
+            for &v in mesh.cells.get(c) {
+                if self.index[v] == u32::MAX {
+                    self.index[v] = 0;
+                    nodes.push(v);
+                }
+            }
         }
         nodes.sort_unstable();
-        nodes.dedup();
         for (i, &v) in nodes.iter().enumerate() {
             self.index[v] = i as u32;
         }
