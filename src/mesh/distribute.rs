@@ -572,6 +572,33 @@ pub fn distribute<C: Communicator>(
 mod tests {
     use super::*;
 
+    /// The graph from the node-to-cell incidence equals the pairs of nodes
+    /// sharing a cell, on mixed cells with a node in no cell.
+    #[test]
+    fn node_graph_of_mixed_cells() {
+        let mut cells = Cells::new();
+        cells.push(&[0, 1, 4, 3]);
+        cells.push(&[1, 2, 4]);
+        cells.push(&[2, 5, 4]);
+        cells.push(&[3, 4, 7, 6]);
+        let n = 9; // node 8 in no cell
+        let g = NodeGraph::of_cells(n, &cells);
+        for v in 0..n {
+            let mut want: Vec<i32> = cells
+                .iter()
+                .filter(|c| c.contains(&v))
+                .flat_map(|c| c.iter().copied())
+                .filter(|&w| w != v)
+                .map(|w| w as i32)
+                .collect();
+            want.sort_unstable();
+            want.dedup();
+            assert_eq!(g.neighbours(v), &want[..], "node {v}");
+        }
+        assert!(g.neighbours(8).is_empty());
+        assert_eq!(g.xadj.len(), n + 1);
+    }
+
     fn square() -> Mesh {
         // 3x3 nodes, 8 triangles.
         let mut coords = Vec::new();
