@@ -340,51 +340,67 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         self.warnings.push(message);
     }
 
+    /// A generated mesh on several ranks, made by every rank (the
+    /// generators are deterministic: every rank builds the same mesh, or
+    /// meets the same error, so errors stay collective), each keeping its
+    /// own part: split by RCB, the block's box alone
+    /// ([`mesh::block3d_parts::own_part`]) or the whole mesh cut by
+    /// [`distribute::own_part_rcb`]; split by METIS, rank 0's parts
+    /// broadcast and each rank's built from its own copy
+    /// ([`distribute::own_part_metis`]). None otherwise.
+    fn generated_part(&mut self) -> Result<Option<LocalMesh>, Error> {
+        let (stages, source) = (&self.stages, &self.settings.mesh);
+        let partitioner = self.settings.partition;
+        let size = self.world.size() as usize;
+        let crate::options::MeshSource::Generate { name, h, q1 } = source else {
+            return Ok(None);
+        };
+        if size == 1 {
+            return Ok(None);
+        }
+        let rank = self.world.rank() as usize;
+        let t = Instant::now();
+        if partitioner == Partitioner::Rcb && name == "block3d" {
+            // The block's parts are boxes of the grid: each rank makes its
+            // own and nothing else.
+            let _guard = stages.mesh.push()?;
+            if let Some(local) = mesh::block3d_parts::own_part(*h, *q1, size, rank)? {
+                self.times.mesh = t.elapsed().as_secs_f64();
+                return Ok(Some(local));
+            }
+        }
+        // Without waiting for rank 0 to split and send every part (0.6 s of
+        // a 4.0 s run on 16 ranks, 582k nodes, RCB).
+        let mesh = {
+            let _guard = stages.mesh.push()?;
+            mesh::load(source)?
+        };
+        self.times.mesh = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let _guard = stages.partition.push()?;
+        progress::phase(false, || {
+            format!("partitioning {} nodes over {size} ranks", mesh.num_nodes())
+        });
+        let local = match partitioner {
+            Partitioner::Rcb => distribute::own_part_rcb(&mesh, size, rank),
+            Partitioner::Metis => distribute::own_part_metis(self.world, &mesh)?,
+        };
+        drop(mesh);
+        self.times.partition = t.elapsed().as_secs_f64();
+        Ok(Some(local))
+    }
+
     /// Mesh and Partition stages: rank 0 reads or generates the mesh and
     /// splits it (`-partition`: RCB or METIS); each rank receives its part.
-    /// A generated mesh split by RCB is instead made by every rank, which
-    /// keeps its own part: the block's box alone
-    /// ([`mesh::block3d_parts::own_part`]), else the whole mesh cut by
-    /// [`distribute::own_part_rcb`].
+    /// A generated mesh is instead made by every rank ([`App::generated_part`]).
     fn make_and_distribute_mesh(&mut self) -> Result<LocalMesh, Error> {
+        if let Some(local) = self.generated_part()? {
+            return Ok(local);
+        }
         let (stages, source) = (&self.stages, &self.settings.mesh);
         let partitioner = self.settings.partition;
         let size = self.world.size() as usize;
         let mut t_mesh = 0.0;
-        if size > 1
-            && partitioner == Partitioner::Rcb
-            && matches!(source, crate::options::MeshSource::Generate { .. })
-        {
-            // The generators are deterministic: every rank builds the same
-            // mesh (or meets the same error, so errors stay collective) and
-            // the same cuts, without waiting for rank 0 to split and send
-            // every part (0.6 s of a 4.0 s run on 16 ranks, 582k nodes).
-            let t = Instant::now();
-            if let crate::options::MeshSource::Generate { name, h, q1 } = source {
-                if name == "block3d" {
-                    // The block's parts are boxes of the grid: each rank
-                    // makes its own and nothing else.
-                    let _guard = stages.mesh.push()?;
-                    let rank = self.world.rank() as usize;
-                    if let Some(local) = mesh::block3d_parts::own_part(*h, *q1, size, rank)? {
-                        self.times.mesh = t.elapsed().as_secs_f64();
-                        return Ok(local);
-                    }
-                }
-            }
-            let mesh = {
-                let _guard = stages.mesh.push()?;
-                mesh::load(source)?
-            };
-            self.times.mesh = t.elapsed().as_secs_f64();
-            let t = Instant::now();
-            let _guard = stages.partition.push()?;
-            let rank = self.world.rank() as usize;
-            let local = distribute::own_part_rcb(&mesh, size, rank);
-            drop(mesh);
-            self.times.partition = t.elapsed().as_secs_f64();
-            return Ok(local);
-        }
         // The Partition stage and time hold rank 0's partition, the parts'
         // sending and each rank's numbering of its own part.
         let t_all = Instant::now();

@@ -7,12 +7,14 @@
 //! nodes first, then the "ghost" nodes of its neighbours), and the group
 //! elements that touch one of its nodes. With that, a rank assembles the full
 //! rows of the nodes it owns without any communication. Rank 0 sends the
-//! parts raw, and each rank numbers its own ([`super::scatter`]); [`split`]
+//! parts raw, and each rank numbers its own ([`super::scatter`]); `split` (tests)
 //! makes every part on one process (the same local meshes).
 //!
-//! A generated mesh split by RCB skips rank 0: every rank cuts the mesh the
-//! same way and keeps its own part (own_part_rcb here; the block's boxes in
-//! block3d_parts.rs, without the rest of the mesh).
+//! A generated mesh skips the sending: split by RCB, every rank cuts the
+//! mesh the same way and keeps its own part (own_part_rcb here; the
+//! block's boxes in block3d_parts.rs, without the rest of the mesh); split
+//! by METIS, rank 0's parts are broadcast and each rank builds its own
+//! (own_part_metis).
 
 use super::{Bodies, CellMaterials, Cells, Group, Mesh};
 use crate::error::Error;
@@ -516,56 +518,96 @@ impl<'a> Numbering<'a> {
     }
 }
 
-/// Rank 0 runs `load` (read or generate) and `partition` (the local meshes of
-/// every rank, e.g. [`partition_nodes`] then [`split`]); every rank gets its
-/// local mesh. An error on rank 0 reaches every rank, so the caller's error
-/// handling stays collective.
+/// Rank 0's verdict to every rank (collective): `Some(error)` on rank 0
+/// (ignored elsewhere) becomes the same error on every rank, with rank 0's
+/// message; `None`, Ok everywhere.
+fn root_verdict<C: Communicator>(world: &C, failed: Option<&Error>) -> Result<(), Error> {
+    let root = world.process_at_rank(0);
+    if world.rank() == 0 {
+        let Some(e) = failed else {
+            root.broadcast_into(&mut [0u64][..]);
+            return Ok(());
+        };
+        let mut status = [if e.exit_code() == 2 { 2u64 } else { 1 }];
+        let mut msg = e.to_string().into_bytes();
+        let mut len = [msg.len() as u64];
+        root.broadcast_into(&mut status[..]);
+        root.broadcast_into(&mut len[..]);
+        root.broadcast_into(&mut msg[..]);
+        // The caller returns its own error.
+        return Ok(());
+    }
+    let mut status = [0u64];
+    root.broadcast_into(&mut status[..]);
+    if status[0] == 0 {
+        return Ok(());
+    }
+    let mut len = [0u64];
+    root.broadcast_into(&mut len[..]);
+    let mut msg = vec![0u8; len[0] as usize];
+    root.broadcast_into(&mut msg[..]);
+    let text = String::from_utf8_lossy(&msg).into_owned();
+    let text = text.strip_prefix("error: ").unwrap_or(&text).to_string();
+    Err(if status[0] == 2 {
+        Error::BadInput(text)
+    } else {
+        Error::Internal(text)
+    })
+}
+
+/// Rank 0 runs `load` (read or generate) and `partition` (the part of
+/// every node, e.g. [`partition_nodes`] or [`partition_rcb`]) and sends
+/// every rank its raw part, which the rank builds into its local mesh
+/// ([`super::scatter`]). An error on rank 0 reaches every rank, so the
+/// caller's error handling stays collective.
 pub fn distribute<C: Communicator>(
     world: &C,
     load: impl FnOnce() -> Result<Mesh, Error>,
     partition: impl FnOnce(&Mesh) -> Result<Vec<usize>, Error>,
 ) -> Result<LocalMesh, Error> {
-    let rank = world.rank();
-    let root = world.process_at_rank(0);
-    if rank == 0 {
-        let outcome = load().and_then(|mesh| partition(&mesh).map(|part| (mesh, part)));
-        match outcome {
-            Err(e) => {
-                let mut status = [2u64];
-                let mut msg = e.to_string().into_bytes();
-                if e.exit_code() != 2 {
-                    status[0] = 1;
+    if world.rank() != 0 {
+        root_verdict(world, None)?;
+        return super::scatter::receive_part(world);
+    }
+    match load().and_then(|mesh| partition(&mesh).map(|part| (mesh, part))) {
+        Err(e) => {
+            root_verdict(world, Some(&e))?;
+            Err(e)
+        }
+        Ok((mesh, part)) => {
+            root_verdict(world, None)?;
+            super::scatter::send_parts(world, &mesh, &part)
+        }
+    }
+}
+
+/// This rank's local mesh of a generated mesh that every rank has made
+/// (the same on every rank), split by METIS on rank 0: rank 0 partitions
+/// the nodal graph and broadcasts the parts; each rank makes and builds its
+/// own part from its own copy, nothing else sent (rank 0 made and sent
+/// every rank's part before). Collective.
+pub fn own_part_metis<C: Communicator>(world: &C, mesh: &Mesh) -> Result<LocalMesh, Error> {
+    let n = mesh.num_nodes();
+    let mut part32 = vec![0u32; n];
+    if world.rank() == 0 {
+        match partition_nodes(&NodeGraph::new(mesh), world.size() as usize) {
+            Ok(part) => {
+                root_verdict(world, None)?;
+                for (a, &b) in part32.iter_mut().zip(&part) {
+                    *a = b as u32;
                 }
-                let mut len = [msg.len() as u64];
-                root.broadcast_into(&mut status[..]);
-                root.broadcast_into(&mut len[..]);
-                root.broadcast_into(&mut msg[..]);
-                Err(e)
             }
-            Ok((mesh, part)) => {
-                let mut status = [0u64];
-                root.broadcast_into(&mut status[..]);
-                super::scatter::send_parts(world, &mesh, &part)
+            Err(e) => {
+                root_verdict(world, Some(&e))?;
+                return Err(e);
             }
         }
     } else {
-        let mut status = [0u64];
-        root.broadcast_into(&mut status[..]);
-        if status[0] != 0 {
-            let mut len = [0u64];
-            root.broadcast_into(&mut len[..]);
-            let mut msg = vec![0u8; len[0] as usize];
-            root.broadcast_into(&mut msg[..]);
-            let text = String::from_utf8_lossy(&msg).into_owned();
-            let text = text.strip_prefix("error: ").unwrap_or(&text).to_string();
-            return Err(if status[0] == 2 {
-                Error::BadInput(text)
-            } else {
-                Error::Internal(text)
-            });
-        }
-        super::scatter::receive_part(world)
+        root_verdict(world, None)?;
     }
+    world.process_at_rank(0).broadcast_into(&mut part32[..]);
+    let part: Vec<usize> = part32.into_iter().map(|p| p as usize).collect();
+    super::scatter::own_part(world, mesh, &part)
 }
 
 #[cfg(test)]

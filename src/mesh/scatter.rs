@@ -68,17 +68,23 @@ struct Parts<'a> {
 }
 
 impl<'a> Parts<'a> {
-    fn new(mesh: &'a Mesh, part: &'a [usize], nparts: usize) -> Parts<'a> {
+    /// The parts of `part` (every part, or part `only` alone).
+    fn new(mesh: &'a Mesh, part: &'a [usize], nparts: usize, only: Option<usize>) -> Parts<'a> {
+        let wanted = |p: usize| only.is_none_or(|o| o == p);
+        let mut counts = vec![0usize; nparts];
         let mut owned: Vec<Vec<usize>> = vec![Vec::new(); nparts];
         for (v, &p) in part.iter().enumerate() {
-            owned[p].push(v);
+            counts[p] += 1;
+            if wanted(p) {
+                owned[p].push(v);
+            }
         }
         let mut cells_of: Vec<Vec<usize>> = vec![Vec::new(); nparts];
         let mut here = Vec::with_capacity(8);
         for (c, cell) in mesh.cells.iter().enumerate() {
             here.clear();
             for &v in cell {
-                if !here.contains(&part[v]) {
+                if wanted(part[v]) && !here.contains(&part[v]) {
                     here.push(part[v]);
                 }
             }
@@ -89,7 +95,7 @@ impl<'a> Parts<'a> {
         Parts {
             mesh,
             part,
-            counts: owned.iter().map(Vec::len).collect(),
+            counts,
             owned,
             cells_of,
             index: vec![u32::MAX; part.len()],
@@ -185,7 +191,7 @@ pub(super) fn send_parts<C: Communicator>(
     part: &[usize],
 ) -> Result<LocalMesh, Error> {
     let nparts = world.size() as usize;
-    let mut parts = Parts::new(mesh, part, nparts);
+    let mut parts = Parts::new(mesh, part, nparts, None);
     for p in 1..nparts {
         let raw = parts.make(p);
         let buf = postcard::to_allocvec(&raw)
@@ -200,6 +206,19 @@ pub(super) fn send_parts<C: Communicator>(
     let own = parts.make(0);
     drop(parts);
     build(world, own)
+}
+
+/// This rank's local mesh of a mesh every rank holds whole, split by
+/// `part` (the same on every rank): its own part alone made and built,
+/// nothing sent. Collective (the ghosts' numbers).
+pub(super) fn own_part<C: Communicator>(
+    world: &C,
+    mesh: &Mesh,
+    part: &[usize],
+) -> Result<LocalMesh, Error> {
+    let me = world.rank() as usize;
+    let raw = Parts::new(mesh, part, world.size() as usize, Some(me)).make(me);
+    build(world, raw)
 }
 
 /// A rank other than 0: receives its raw part and builds its local mesh.
