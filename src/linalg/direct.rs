@@ -19,7 +19,7 @@
 //!   side on the host, solves with S there and scatters the result back.
 //! - Full solves hand MUMPS each rank's rows of the right-hand sides and
 //!   send its distributed solution to the rows' owners (ICNTL(20) = 10,
-//!   ICNTL(21) = 1; [`super::distsol`]); `-ubr_mumps_rhs centralized`
+//!   ICNTL(21) = 1; `linalg/distsol.rs`); `-ubr_mumps_rhs centralized`
 //!   gathers them on the host and scatters the solutions from there
 //!   (ICNTL(20) = ICNTL(21) = 0).
 //!

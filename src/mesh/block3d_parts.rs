@@ -7,7 +7,7 @@
 //! every rank knows every box from the grid's size alone: no graph, no
 //! coordinates of other parts, nothing sent. A rank then makes the cells
 //! touching its box (one layer of boxes around it), its ghost nodes and its
-//! boundary elements, numbered as [`crate::mesh::distribute::split`] numbers
+//! boundary elements, numbered as `distribute::split` numbers
 //! them: each part's nodes contiguous (part 0 first), x fastest within a
 //! box; ghosts after the owned nodes, by global number. Cells, elements,
 //! coordinates and node tags are those of [`super::block3d::generate`] and
