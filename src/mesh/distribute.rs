@@ -7,7 +7,7 @@
 //! nodes first, then the "ghost" nodes of its neighbours), and the group
 //! elements that touch one of its nodes. With that, a rank assembles the full
 //! rows of the nodes it owns without any communication. Rank 0 sends the
-//! parts raw, and each rank numbers its own ([`super::scatter`]); `split` (tests)
+//! parts raw, and each rank numbers its own (`mesh/scatter.rs`); `split` (tests)
 //! makes every part on one process (the same local meshes).
 //!
 //! A generated mesh skips the sending: split by RCB, every rank cuts the
@@ -340,7 +340,7 @@ pub fn locality_order(graph: &NodeGraph, part: &[usize], nparts: usize) -> Vec<u
 
 /// Builds the local meshes of all parts from the serial mesh and its node
 /// partition, on one process: the reference of the tests (a run builds
-/// each part on its own rank, [`super::scatter`]).
+/// each part on its own rank, `mesh/scatter.rs`).
 /// `order` lists the nodes in their new global numbering, part by part
 /// (e.g. from [`locality_order`]).
 #[cfg(test)]
@@ -558,7 +558,7 @@ fn root_verdict<C: Communicator>(world: &C, failed: Option<&Error>) -> Result<()
 /// Rank 0 runs `load` (read or generate) and `partition` (the part of
 /// every node, e.g. [`partition_nodes`] or [`partition_rcb`]) and sends
 /// every rank its raw part, which the rank builds into its local mesh
-/// ([`super::scatter`]). An error on rank 0 reaches every rank, so the
+/// (`mesh/scatter.rs`). An error on rank 0 reaches every rank, so the
 /// caller's error handling stays collective.
 pub fn distribute<C: Communicator>(
     world: &C,
