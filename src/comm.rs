@@ -16,14 +16,7 @@ impl Layout {
     pub fn new<C: Communicator>(world: &C, local: usize) -> Layout {
         let mut counts = vec![0i32; world.size() as usize];
         world.all_gather_into(&(local as i32), &mut counts[..]);
-        let displs = counts
-            .iter()
-            .scan(0i32, |acc, &c| {
-                let s = *acc;
-                *acc += c;
-                Some(s)
-            })
-            .collect();
+        let displs = displacements(&counts);
         Layout { counts, displs }
     }
 
@@ -81,6 +74,19 @@ impl Layout {
             root.scatter_varcount_into(local);
         }
     }
+}
+
+/// The displacements of `counts` (each the sum of those before it), for
+/// MPI's varcount collectives.
+pub fn displacements(counts: &[i32]) -> Vec<i32> {
+    counts
+        .iter()
+        .scan(0i32, |acc, &c| {
+            let s = *acc;
+            *acc += c;
+            Some(s)
+        })
+        .collect()
 }
 
 /// Sum of `vals` over all ranks, in one reduction.

@@ -10,6 +10,7 @@
 //! the plan of the all-to-all (counts and positions) is made at the first
 //! solve and kept while the returned rows stay the same.
 
+use crate::comm::displacements;
 use crate::error::Error;
 use crate::mumps::Mumps;
 use mpi::datatype::{Partition, PartitionMut};
@@ -26,19 +27,16 @@ struct Plan {
     /// this rank's rows), and how many from each rank.
     recv_pos: Vec<usize>,
     recv_counts: Vec<i32>,
+    /// The counts and displacements of the values sent and received for
+    /// the last number of columns `k` (made again when it changes).
+    values: (usize, [Vec<i32>; 4]),
 }
 
-/// Displacements of `counts`, each scaled by `k` (values per entry).
-fn displs(counts: &[i32], k: usize) -> (Vec<i32>, Vec<i32>) {
+/// The counts of an all-to-all of `k` values per entry and their
+/// displacements: those of `counts` entries, each times `k`.
+fn scaled(counts: &[i32], k: usize) -> (Vec<i32>, Vec<i32>) {
     let scaled: Vec<i32> = counts.iter().map(|&c| c * k as i32).collect();
-    let starts = scaled
-        .iter()
-        .scan(0i32, |acc, &c| {
-            let s = *acc;
-            *acc += c;
-            Some(s)
-        })
-        .collect();
+    let starts = displacements(&scaled);
     (scaled, starts)
 }
 
@@ -147,7 +145,12 @@ impl DistSolve {
         if self.plan.as_ref().is_none_or(|p| p.isol != self.isol) {
             self.plan = Some(self.make_plan(world, cols.len() / k.max(1))?);
         }
-        let plan = self.plan.as_ref().expect("made above");
+        let plan = self.plan.as_mut().expect("made above");
+        if plan.values.0 != k {
+            let (sc, sd) = scaled(&plan.send_counts, k);
+            let (rc, rd) = scaled(&plan.recv_counts, k);
+            plan.values = (k, [sc, sd, rc, rd]);
+        }
         let mine = self.isol.len();
         self.send.clear();
         for &i in &plan.send_order {
@@ -156,8 +159,7 @@ impl DistSolve {
             }
         }
         self.recv.resize(plan.recv_pos.len() * k, 0.0);
-        let (sc, sd) = displs(&plan.send_counts, k);
-        let (rc, rd) = displs(&plan.recv_counts, k);
+        let [sc, sd, rc, rd] = &plan.values.1;
         world.all_to_all_varcount_into(
             &Partition::new(&self.send[..], &sc[..], &sd[..]),
             &mut PartitionMut::new(&mut self.recv[..], &rc[..], &rd[..]),
@@ -187,8 +189,7 @@ impl DistSolve {
         let rows: Vec<i32> = send_order.iter().map(|&i| self.isol[i]).collect();
         let total: usize = recv_counts.iter().map(|&c| c as usize).sum();
         let mut got = vec![0i32; total];
-        let (_, sd) = displs(&send_counts, 1);
-        let (_, rd) = displs(&recv_counts, 1);
+        let (sd, rd) = (displacements(&send_counts), displacements(&recv_counts));
         world.all_to_all_varcount_into(
             &Partition::new(&rows[..], &send_counts[..], &sd[..]),
             &mut PartitionMut::new(&mut got[..], &recv_counts[..], &rd[..]),
@@ -214,6 +215,7 @@ impl DistSolve {
             send_counts,
             recv_pos,
             recv_counts,
+            values: (0, Default::default()),
         })
     }
 }

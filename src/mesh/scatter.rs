@@ -22,6 +22,7 @@
 
 use super::distribute::{locality_order, LocalMesh, NodeGraph};
 use super::{Bodies, CellMaterials, Cells, Group, Mesh};
+use crate::comm::displacements;
 use crate::error::Error;
 use mpi::datatype::{Partition, PartitionMut};
 use mpi::traits::*;
@@ -235,18 +236,6 @@ pub(super) fn receive_part<C: Communicator>(world: &C) -> Result<LocalMesh, Erro
     build(world, raw)
 }
 
-/// Displacements of `counts`.
-fn displs(counts: &[i32]) -> Vec<i32> {
-    counts
-        .iter()
-        .scan(0i32, |acc, &c| {
-            let s = *acc;
-            *acc += c;
-            Some(s)
-        })
-        .collect()
-}
-
 /// The new global numbers of this rank's ghosts (`ghosts`: indices into
 /// `raw.nodes`), asked of their owners; `owned_sorted`: this rank's owned
 /// input numbers ascending, with their new numbers. Collective.
@@ -267,7 +256,7 @@ fn ghost_numbers<C: Communicator>(
     let mut recv_counts = vec![0i32; p];
     world.all_to_all_into(&send_counts[..], &mut recv_counts[..]);
     let asked: Vec<u64> = by_owner.iter().map(|&i| raw.nodes[i] as u64).collect();
-    let (sd, rd) = (displs(&send_counts), displs(&recv_counts));
+    let (sd, rd) = (displacements(&send_counts), displacements(&recv_counts));
     let mut got = vec![0u64; recv_counts.iter().sum::<i32>() as usize];
     world.all_to_all_varcount_into(
         &Partition::new(&asked[..], &send_counts[..], &sd[..]),

@@ -372,12 +372,7 @@ impl Mumps {
             self.id.nrhs = nrhs as i32;
             self.id.lrhs = n as i32;
             if schur_phase != 0 {
-                let m = self.id.size_schur as usize;
-                if self.redrhs.len() != m * nrhs {
-                    self.redrhs.resize(m * nrhs, 0.0);
-                }
-                self.id.redrhs = self.redrhs.as_mut_ptr();
-                self.id.lredrhs = m as i32;
+                self.point_redrhs(nrhs);
             }
         }
         let r = self.run(3, "solve");
@@ -424,12 +419,7 @@ impl Mumps {
         self.id.sol_loc = sol.as_mut_ptr();
         self.id.isol_loc = isol.as_mut_ptr();
         if self.host && schur_phase != 0 {
-            let m = self.id.size_schur as usize;
-            if self.redrhs.len() != m * nrhs {
-                self.redrhs.resize(m * nrhs, 0.0);
-            }
-            self.id.redrhs = self.redrhs.as_mut_ptr();
-            self.id.lredrhs = m as i32;
+            self.point_redrhs(nrhs);
         }
         let r = self.run(3, "solve");
         // The arrays are the caller's again: no pointer to them is left
@@ -442,6 +432,17 @@ impl Mumps {
         icntl!(self.id, 21) = 0;
         icntl!(self.id, 26) = 0;
         r
+    }
+
+    /// REDRHS (host, with a Schur complement): `nrhs` columns of the Schur
+    /// complement's order, MUMPS pointed at them.
+    fn point_redrhs(&mut self, nrhs: usize) {
+        let m = self.id.size_schur as usize;
+        if self.redrhs.len() != m * nrhs {
+            self.redrhs.resize(m * nrhs, 0.0);
+        }
+        self.id.redrhs = self.redrhs.as_mut_ptr();
+        self.id.lredrhs = m as i32;
     }
 
     /// The reduced right-hand sides / Schur solutions (host), `nrhs`
