@@ -384,6 +384,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let local = match partitioner {
             Partitioner::Rcb => distribute::own_part_rcb(&mesh, size, rank),
             Partitioner::Metis => distribute::own_part_metis(self.world, &mesh)?,
+            Partitioner::PtScotch => mesh::ptscotch::own_part(self.world, &mesh)?,
         };
         drop(mesh);
         self.times.partition = t.elapsed().as_secs_f64();
@@ -405,27 +406,26 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         // sending and each rank's numbering of its own part.
         let t_all = Instant::now();
         let partition_stage = stages.partition.push()?;
-        let local = distribute::distribute(
-            self.world,
-            || {
-                let (t, _guard) = (Instant::now(), stages.mesh.push()?);
-                let mesh = mesh::load(source);
-                t_mesh = t.elapsed().as_secs_f64();
-                mesh
-            },
-            |mesh| {
+        let load = || {
+            let (t, _guard) = (Instant::now(), stages.mesh.push()?);
+            let mesh = mesh::load(source);
+            t_mesh = t.elapsed().as_secs_f64();
+            if let Ok(mesh) = &mesh {
                 progress::phase(false, || {
                     format!("partitioning {} nodes over {size} ranks", mesh.num_nodes())
                 });
-                let part = match partitioner {
-                    Partitioner::Rcb => distribute::partition_rcb(&mesh.coords, mesh.dim, size),
-                    Partitioner::Metis => {
-                        distribute::partition_nodes(&distribute::NodeGraph::new(mesh), size)?
-                    }
-                };
-                Ok(part)
-            },
-        )?;
+            }
+            mesh
+        };
+        let local = match partitioner {
+            Partitioner::PtScotch => mesh::ptscotch::distribute(self.world, load)?,
+            Partitioner::Rcb => distribute::distribute(self.world, load, |mesh| {
+                Ok(distribute::partition_rcb(&mesh.coords, mesh.dim, size))
+            })?,
+            Partitioner::Metis => distribute::distribute(self.world, load, |mesh| {
+                distribute::partition_nodes(&distribute::NodeGraph::new(mesh), size)
+            })?,
+        };
         drop(partition_stage);
         let t_partition = t_all.elapsed().as_secs_f64() - t_mesh;
         (self.times.mesh, self.times.partition) = (t_mesh, t_partition);

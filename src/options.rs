@@ -42,6 +42,7 @@ pub enum MeshSource {
 pub enum Partitioner {
     Metis,
     Rcb,
+    PtScotch,
 }
 
 impl Partitioner {
@@ -51,6 +52,7 @@ impl Partitioner {
             _ if ranks == 1 => "none",
             Partitioner::Rcb => "rcb",
             Partitioner::Metis => "metis",
+            Partitioner::PtScotch => "ptscotch",
         }
     }
     /// The summary's words for it.
@@ -58,6 +60,7 @@ impl Partitioner {
         match self {
             Partitioner::Rcb => "recursive coordinate bisection",
             Partitioner::Metis => "METIS k-way",
+            Partitioner::PtScotch => "PT-Scotch (in parallel)",
         }
     }
 }
@@ -808,6 +811,7 @@ impl Settings {
         let partition = match PARTITION.get()? {
             "metis" => Partitioner::Metis,
             "rcb" => Partitioner::Rcb,
+            "ptscotch" => Partitioner::PtScotch,
             // RCB where the factorization's parallel ordering follows it;
             // GAMG converges worse on its slabs (the 1M-node block on 16
             // ranks: 317 preconditioner applications against 179 on

@@ -64,6 +64,17 @@ fn missing_mesh_file() {
         &hertz_args("meshes/does_not_exist.msh", &[]),
         "does_not_exist.msh",
     );
+    // With every partition (PT-Scotch's ranks wait for rank 0's read too),
+    // on 3 ranks.
+    for partition in ["metis", "rcb", "ptscotch"] {
+        let extra = ["-partition", partition];
+        expect_bad_on(
+            3,
+            &format!("missing-{partition}"),
+            &hertz_args("meshes/does_not_exist.msh", &extra),
+            &["does_not_exist.msh"],
+        );
+    }
 }
 
 #[test]

@@ -492,29 +492,37 @@ fn rank_counts_agree_with_the_parallel_ordering() {
         args.extend_from_slice(&["-ubr_lambda_rtol", "1e-10"]);
         let (_, _, one) = solve_rows(&format!("pnd{k}_1"), 1, &args);
         let pmax = one.iter().map(|r| r.lambda_n).fold(0.0, f64::max);
-        // The default split on 2, 3, 4 ranks, and the other one on 3.
+        // The default split on 2, 3, 4 ranks, the other one on 3, and
+        // PT-Scotch's (the graph partitioned by every rank) on 2 and 3.
         let alt = if scene.contains(&"gamg") {
             "rcb"
         } else {
             "metis"
         };
-        for (ranks, partition) in [(2, "auto"), (3, "auto"), (4, "auto"), (3, alt)] {
+        let splits = [
+            (2, "auto"),
+            (3, "auto"),
+            (4, "auto"),
+            (3, alt),
+            (2 + k % 2, "ptscotch"),
+        ];
+        for (ranks, partition) in splits {
             let mut args = args.clone();
             args.extend_from_slice(&["-partition", partition]);
             let tag = format!("pnd{k}_{ranks}_{partition}");
             let (run, rep, other) = solve_rows(&tag, ranks, &args);
             // auto: RCB with the direct solver, METIS' parts for GAMG.
             let gamg = scene.contains(&"gamg");
-            let want = if partition == "metis" || (gamg && partition == "auto") {
-                "metis"
-            } else {
-                "rcb"
+            let want = match partition {
+                "metis" | "ptscotch" | "rcb" => partition,
+                _ if gamg => "metis",
+                _ => "rcb",
             };
             assert_eq!(Some(rep.partition.as_str()), Some(want), "{tag}");
-            let words = if want == "metis" {
-                "by METIS k-way"
-            } else {
-                "by recursive coordinate bisection"
+            let words = match want {
+                "metis" => "by METIS k-way",
+                "ptscotch" => "by PT-Scotch (in parallel)",
+                _ => "by recursive coordinate bisection",
             };
             assert!(run.stdout.contains(words), "{tag}: {}", run.stdout);
             if !scene.contains(&"gamg") {

@@ -19,10 +19,10 @@ fn agree_split(tag: &str, args: &[&str], ranks: &[usize], partition: &str) {
     assert!(pmax > 0.0, "{tag}: no contact pressure on one rank");
     let mut split = args.clone();
     split.extend_from_slice(&["-partition", partition]);
-    let words = if partition == "rcb" {
-        "by recursive coordinate bisection"
-    } else {
-        "by METIS k-way"
+    let words = match partition {
+        "rcb" => "by recursive coordinate bisection",
+        "ptscotch" => "by PT-Scotch (in parallel)",
+        _ => "by METIS k-way",
     };
     for &n in ranks {
         let (run, rep, other) = solve_rows(&format!("{tag}_{partition}_{n}"), n, &split);
@@ -139,9 +139,47 @@ fn generated_mesh_split_by_metis_agrees() {
     agree_split("gen_tet_gamg", &tet, &[2, 4], "metis");
 }
 
+/// PT-Scotch's parts of a generated mesh (every rank builds its block of
+/// the graph from its own copy, and its own part): the same answers on 2,
+/// 3 and 4 ranks, triangles with the direct solver, tetrahedra with
+/// Coulomb friction and GAMG.
+#[test]
+fn generated_mesh_split_by_ptscotch_agrees() {
+    let tri = [
+        "-options_file",
+        "options/hertz",
+        "-mesh_generate",
+        "hertz2d",
+        "-mesh_h",
+        "0.25",
+    ];
+    agree_split("gen_tri_pt", &tri, &[2, 3], "ptscotch");
+    let tet = [
+        "-options_file",
+        "options/block3d-coulomb",
+        "-mesh_generate",
+        "block3d",
+        "-mesh_h",
+        "0.1",
+        "-ksp_type",
+        "cg",
+        "-pc_type",
+        "gamg",
+        "-ksp_rtol",
+        "1e-12",
+    ];
+    agree_split("gen_tet_gamg_pt", &tet, &[2, 4], "ptscotch");
+}
+
 #[test]
 fn bad_element_size_ends_every_rank() {
-    for (h, partition) in [("-1", "rcb"), ("1e-9", "rcb"), ("-1", "metis")] {
+    let cases = [
+        ("-1", "rcb"),
+        ("1e-9", "rcb"),
+        ("-1", "metis"),
+        ("-1", "ptscotch"),
+    ];
+    for (h, partition) in cases {
         let run = mpirun(
             3,
             &[

@@ -21,6 +21,7 @@ pub mod block3d_parts;
 pub mod distribute;
 pub mod gmsh;
 pub mod hertz2d;
+pub mod ptscotch;
 mod scatter;
 
 use crate::error::{bad, Error};

@@ -62,6 +62,7 @@ mod log;
 mod mat;
 mod nullspace;
 pub mod options;
+pub mod partition;
 pub mod registry;
 mod vec;
 pub use ksp::{Ksp, Snes};

@@ -1,0 +1,166 @@
+//! The mesh split by PT-Scotch in parallel (`-partition ptscotch`): the
+//! nodal graph is distributed over the ranks in contiguous blocks of n/P
+//! nodes, PT-Scotch (through PETSc's `MatPartitioning`,
+//! [`crate::petsc::partition::ptscotch`]) partitions it with every rank
+//! working on its block, and the parts are gathered (4 bytes a node) where
+//! the parts are made: on every rank for a generated mesh (each rank makes
+//! its own part from its own copy), on rank 0 for a file (which sends the
+//! parts as with METIS or RCB). Where a part would be empty, contiguous
+//! blocks (as with METIS).
+
+use super::distribute::{root_verdict, LocalMesh, NodeGraph};
+use super::Mesh;
+use crate::error::Error;
+use mpi::datatype::PartitionMut;
+use mpi::traits::*;
+
+/// The first node of rank `r`'s block of `n` nodes over `size` ranks.
+fn block(n: usize, size: usize, r: usize) -> usize {
+    r * n / size
+}
+
+/// The block sizes of every rank, as MPI counts.
+fn block_counts(n: usize, size: usize) -> Vec<i32> {
+    (0..size)
+        .map(|r| (block(n, size, r + 1) - block(n, size, r)) as i32)
+        .collect()
+}
+
+/// Contiguous blocks: the part of each of `n` nodes.
+fn blocks(n: usize, size: usize) -> Vec<usize> {
+    (0..n).map(|i| i * size / n.max(1)).collect()
+}
+
+/// PT-Scotch's parts of this rank's block of the graph (its rows, `graph`,
+/// numbered in the whole graph of `n` nodes). Collective.
+fn parts_of_rows(n: usize, graph: &NodeGraph) -> Result<Vec<u32>, Error> {
+    let comm = crate::petsc::comm_world();
+    Ok(
+        crate::petsc::partition::ptscotch(comm, n, &graph.xadj, &graph.adjncy)?
+            .into_iter()
+            .map(|p| p as u32)
+            .collect(),
+    )
+}
+
+/// `part32` as parts, or contiguous blocks where a part is empty or out
+/// of range.
+fn checked(part32: Vec<u32>, size: usize) -> Vec<usize> {
+    let mut filled = vec![false; size];
+    for &p in &part32 {
+        match filled.get_mut(p as usize) {
+            Some(f) => *f = true,
+            None => return blocks(part32.len(), size),
+        }
+    }
+    if filled.contains(&false) {
+        return blocks(part32.len(), size);
+    }
+    part32.into_iter().map(|p| p as usize).collect()
+}
+
+/// This rank's local mesh of a generated mesh that every rank has made:
+/// each rank builds the graph's rows of its block from its own copy, the
+/// parts are gathered on every rank, and each rank makes and builds its
+/// own part. Collective.
+pub fn own_part<C: Communicator>(world: &C, mesh: &Mesh) -> Result<LocalMesh, Error> {
+    let (n, size) = (mesh.num_nodes(), world.size() as usize);
+    if n < size {
+        return super::scatter::own_part(world, mesh, &blocks(n, size));
+    }
+    let rank = world.rank() as usize;
+    let rows = block(n, size, rank)..block(n, size, rank + 1);
+    let mine = parts_of_rows(n, &NodeGraph::rows_of_cells(rows, &mesh.cells))?;
+    let counts = block_counts(n, size);
+    let displs = crate::comm::displacements(&counts);
+    let mut part32 = vec![0u32; n];
+    world.all_gather_varcount_into(
+        &mine[..],
+        &mut PartitionMut::new(&mut part32[..], &counts[..], &displs[..]),
+    );
+    super::scatter::own_part(world, mesh, &checked(part32, size))
+}
+
+/// Like [`super::distribute::distribute`] with PT-Scotch's parts: rank 0
+/// runs `load` (a file read) and builds the nodal graph; each rank gets
+/// the rows of its block (two messages), PT-Scotch partitions them, rank 0
+/// gathers the parts and sends every rank its raw part. An error of
+/// `load` reaches every rank. Collective.
+pub fn distribute<C: Communicator>(
+    world: &C,
+    load: impl FnOnce() -> Result<Mesh, Error>,
+) -> Result<LocalMesh, Error> {
+    let (size, root) = (world.size() as usize, world.process_at_rank(0));
+    if world.rank() != 0 {
+        root_verdict(world, None)?;
+        let mut n = 0u64;
+        root.broadcast_into(&mut n);
+        let n = n as usize;
+        if n >= size {
+            let (xadj, _) = root.receive_vec::<i32>();
+            let (adjncy, _) = root.receive_vec::<i32>();
+            let mine = parts_of_rows(n, &NodeGraph { xadj, adjncy })?;
+            root.gather_varcount_into(&mine[..]);
+        }
+        return super::scatter::receive_part(world);
+    }
+    let mesh = match load() {
+        Err(e) => {
+            root_verdict(world, Some(&e))?;
+            return Err(e);
+        }
+        Ok(mesh) => mesh,
+    };
+    root_verdict(world, None)?;
+    let n = mesh.num_nodes();
+    root.broadcast_into(&mut (n as u64));
+    if n < size {
+        return super::scatter::send_parts(world, &mesh, &blocks(n, size));
+    }
+    let mine = parts_of_rows(n, &send_rows(world, &mesh))?;
+    let counts = block_counts(n, size);
+    let displs = crate::comm::displacements(&counts);
+    let mut part32 = vec![0u32; n];
+    root.gather_varcount_into_root(
+        &mine[..],
+        &mut PartitionMut::new(&mut part32[..], &counts[..], &displs[..]),
+    );
+    super::scatter::send_parts(world, &mesh, &checked(part32, size))
+}
+
+/// Rank 0: builds the nodal graph of `mesh`, sends every other rank the
+/// rows of its block (row pointers from 0, then the neighbours) and
+/// returns its own block's rows.
+fn send_rows<C: Communicator>(world: &C, mesh: &Mesh) -> NodeGraph {
+    let (n, size) = (mesh.num_nodes(), world.size() as usize);
+    let graph = NodeGraph::new(mesh);
+    for r in 1..size {
+        let (lo, hi) = (block(n, size, r), block(n, size, r + 1));
+        let first = graph.xadj[lo];
+        let xadj: Vec<i32> = graph.xadj[lo..=hi].iter().map(|&x| x - first).collect();
+        let adjncy = &graph.adjncy[first as usize..graph.xadj[hi] as usize];
+        let dest = world.process_at_rank(r as i32);
+        dest.send(&xadj[..]);
+        dest.send(adjncy);
+    }
+    let hi = block(n, size, 1);
+    NodeGraph {
+        xadj: graph.xadj[..=hi].to_vec(),
+        adjncy: graph.adjncy[..graph.xadj[hi] as usize].to_vec(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A part left empty or out of range falls back to contiguous blocks.
+    #[test]
+    fn empty_or_bad_parts_fall_back_to_blocks() {
+        assert_eq!(checked(vec![1, 0, 1, 0], 2), vec![1, 0, 1, 0]);
+        assert_eq!(checked(vec![0, 0, 0, 0], 2), vec![0, 0, 1, 1]);
+        assert_eq!(checked(vec![0, 3, 1, 1], 2), vec![0, 0, 1, 1]);
+        assert_eq!(block_counts(7, 3), vec![2, 2, 3]);
+        assert_eq!(blocks(7, 3), vec![0, 0, 0, 1, 1, 2, 2]);
+    }
+}
