@@ -2,7 +2,7 @@
 # Strong scaling on a lent 16-core machine in one prepared call (issue "Scaling studies"):
 # the 2D (-mesh_h 0.01) and 3D (-mesh_h 0.0333) direct scenes at 1..16 ranks, the 1M-node
 # GAMG block at 16, and variants. Needs the relocatable bundle (../shared/tools/bundle) in
-# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh [full|partition|local|final|repeat|gamg]
+# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh [full|partition|local|final|repeat|gamg|ptscotch]
 # Writes $OUT/dev.log (summary lines) and $OUT/runs.txt (every run's whole output).
 set -u
 OUT=${OUT:-/tmp/out}; mkdir -p "$OUT"
@@ -69,6 +69,11 @@ echo "== 2D direct"; one 1 d2 $H2; one 16 d2 $H2; one 16 d2 $H2
 echo "== 3D direct"; one 1 d3 $H3; one 16 d3 $H3; one 16 d3 $H3
 echo "== 1M GAMG"; one 16 g3rcb $G3 -partition rcb; one 16 g3t05 $G3 -partition rcb -pc_gamg_threshold 0.05
 one 16 g3m1 $G3 -partition rcb -mg_levels_ksp_max_it 1; one 16 g3t05metis $G3 -pc_gamg_threshold 0.05
+;;
+ptscotch)  # the graph partitioned in parallel (PT-Scotch) against METIS on rank 0 and RCB, 16 ranks
+echo "== 1M GAMG"; one 16 g3pt $G3 -partition ptscotch -log_view; one 16 g3metis $G3 -partition metis
+one 16 g3rcb $G3 -partition rcb; one 16 g3pt $G3 -partition ptscotch
+echo "== 2D direct"; one 16 d2pt $H2 -partition ptscotch; one 16 d2 $H2
 ;;
 esac
 echo "== done after $(( $(date +%s) - T0 )) s"

@@ -23,6 +23,15 @@ fn options_files<C: Communicator>(world: &C) -> Result<Expanded, String> {
 }
 
 fn main() {
+    // PT-Scotch (`-partition ptscotch`) runs threads of its own by default,
+    // and its threaded algorithms give another partition at every run
+    // (measured: 49 to 60 UBR iterations in repeats of one GAMG run); one
+    // thread per rank, as each rank has its own core, makes it the same
+    // run to run. A setting of the user's stays. Set before MPI starts
+    // any thread of its own.
+    if std::env::var_os("SCOTCH_PTHREAD_NUMBER").is_none() {
+        std::env::set_var("SCOTCH_PTHREAD_NUMBER", "1");
+    }
     let Some(universe) = mpi::initialize() else {
         eprintln!("error: MPI could not be initialized");
         std::process::exit(1);

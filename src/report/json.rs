@@ -21,7 +21,7 @@ pub struct Report {
     pub stick_nodes: usize,
     pub slip_nodes: usize,
     pub ranks: usize,
-    /// How the mesh was split over the ranks: "metis" or "rcb" ("none" on one rank).
+    /// How the mesh was split over the ranks: "metis", "rcb" or "ptscotch" ("none" on one rank).
     pub partition: &'static str,
     pub algorithm: String,
     pub paper_algorithm: &'static str,
