@@ -171,6 +171,46 @@ fn generated_mesh_split_by_ptscotch_agrees() {
     agree_split("gen_tet_gamg_pt", &tet, &[2, 4], "ptscotch");
 }
 
+/// PT-Scotch's parts are the same at every run (with its own threads they
+/// were not: another partition, and 49 to 60 UBR iterations with GAMG, at
+/// each run of one scene): the VTU's rank field of two runs, 2 ranks.
+#[test]
+fn ptscotch_parts_are_the_same_run_to_run() {
+    let dir = scratch("ptscotch-repeat");
+    let rank_field = |k: usize| {
+        let vtu = dir.join(format!("run{k}.vtu"));
+        let run = mpirun(
+            2,
+            &[
+                "-options_file",
+                "options/hertz",
+                "-mesh_generate",
+                "hertz2d",
+                "-mesh_h",
+                "0.05",
+                "-partition",
+                "ptscotch",
+                "-vtk",
+                vtu.to_str().unwrap(),
+            ],
+        );
+        assert_eq!(run.status, Some(0), "{}", run.stderr);
+        let text = std::fs::read_to_string(&vtu).unwrap();
+        let line = text
+            .lines()
+            .find(|l| l.contains("Name=\"rank\""))
+            .expect("a rank field")
+            .to_string();
+        line
+    };
+    let first = rank_field(1);
+    assert!(first.len() > 1000, "{first}");
+    for k in 2..4 {
+        assert_eq!(rank_field(k), first, "run {k}: another partition");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn bad_element_size_ends_every_rank() {
     let cases = [

@@ -179,7 +179,8 @@ pub fn mpi_command(program: &str) -> (Command, SessionDir) {
         .env("OMPI_MCA_orte_tmpdir_base", &dir)
         .env("OPENBLAS_NUM_THREADS", "1")
         .env("OMP_NUM_THREADS", "1")
-        .env_remove("PETSC_OPTIONS");
+        .env_remove("PETSC_OPTIONS")
+        .env_remove("SCOTCH_PTHREAD_NUMBER");
     (cmd, SessionDir(dir))
 }
 
