@@ -5,11 +5,12 @@
 //! working on its block, and the parts are gathered (4 bytes a node) where
 //! the parts are made: on every rank for a generated mesh (each rank makes
 //! its own part from its own copy), on rank 0 for a file (which sends the
-//! parts as with METIS or RCB). Where a part would be empty, contiguous
-//! blocks (as with METIS).
+//! parts as with METIS or RCB; each rank builds its block's rows from the
+//! cells touching it, which rank 0 sends: the whole graph is built on no
+//! rank). Where a part would be empty, contiguous blocks (as with METIS).
 
 use super::distribute::{root_verdict, LocalMesh, NodeGraph};
-use super::Mesh;
+use super::{Cells, Mesh};
 use crate::error::Error;
 use mpi::datatype::PartitionMut;
 use mpi::traits::*;
@@ -82,72 +83,91 @@ pub fn own_part<C: Communicator>(world: &C, mesh: &Mesh) -> Result<LocalMesh, Er
 }
 
 /// Like [`super::distribute::distribute`] with PT-Scotch's parts: rank 0
-/// runs `load` (a file read) and builds the nodal graph; each rank gets
-/// the rows of its block (two messages), PT-Scotch partitions them, rank 0
-/// gathers the parts and sends every rank its raw part. An error of
-/// `load` reaches every rank. Collective.
+/// runs `load` (a file read) and sends each rank the cells touching its
+/// block of nodes (one pass over the cells, messages of at most 64 MiB);
+/// each rank builds its block's rows of the graph, PT-Scotch partitions
+/// them, rank 0 gathers the parts and sends every rank its raw part. No
+/// rank builds the whole graph. An error of `load` reaches every rank.
+/// Collective.
 pub fn distribute<C: Communicator>(
     world: &C,
     load: impl FnOnce() -> Result<Mesh, Error>,
 ) -> Result<LocalMesh, Error> {
-    let (size, root) = (world.size() as usize, world.process_at_rank(0));
-    if world.rank() != 0 {
-        root_verdict(world, None)?;
-        let mut n = 0u64;
-        root.broadcast_into(&mut n);
-        let n = n as usize;
-        if n >= size {
-            let (xadj, _) = root.receive_vec::<i32>();
-            let (adjncy, _) = root.receive_vec::<i32>();
-            let mine = parts_of_rows(n, &NodeGraph { xadj, adjncy })?;
-            root.gather_varcount_into(&mine[..]);
+    let (size, rank, root) = (
+        world.size() as usize,
+        world.rank() as usize,
+        world.process_at_rank(0),
+    );
+    let mesh = if rank == 0 {
+        match load() {
+            Err(e) => {
+                root_verdict(world, Some(&e))?;
+                return Err(e);
+            }
+            Ok(mesh) => Some(mesh),
         }
-        return super::scatter::receive_part(world);
-    }
-    let mesh = match load() {
-        Err(e) => {
-            root_verdict(world, Some(&e))?;
-            return Err(e);
-        }
-        Ok(mesh) => mesh,
+    } else {
+        None
     };
     root_verdict(world, None)?;
-    let n = mesh.num_nodes();
-    root.broadcast_into(&mut (n as u64));
-    if n < size {
-        return super::scatter::send_parts(world, &mesh, &blocks(n, size));
+    let mut n = mesh.as_ref().map_or(0, |m| m.num_nodes()) as u64;
+    root.broadcast_into(&mut n);
+    let n = n as usize;
+    let part = if n < size {
+        blocks(n, size)
+    } else {
+        let cells = match &mesh {
+            Some(mesh) => send_cells(world, mesh)?,
+            None => super::scatter::receive_value(world, "the cells of a block")?,
+        };
+        let rows = block(n, size, rank)..block(n, size, rank + 1);
+        let mine = parts_of_rows(n, &NodeGraph::rows_of_cells(rows, &cells))?;
+        drop(cells);
+        if rank != 0 {
+            root.gather_varcount_into(&mine[..]);
+            return super::scatter::receive_part(world);
+        }
+        let counts = block_counts(n, size);
+        let displs = crate::comm::displacements(&counts);
+        let mut part32 = vec![0u32; n];
+        root.gather_varcount_into_root(
+            &mine[..],
+            &mut PartitionMut::new(&mut part32[..], &counts[..], &displs[..]),
+        );
+        checked(part32, size)
+    };
+    match &mesh {
+        Some(mesh) => super::scatter::send_parts(world, mesh, &part),
+        None => super::scatter::receive_part(world),
     }
-    let mine = parts_of_rows(n, &send_rows(world, &mesh))?;
-    let counts = block_counts(n, size);
-    let displs = crate::comm::displacements(&counts);
-    let mut part32 = vec![0u32; n];
-    root.gather_varcount_into_root(
-        &mine[..],
-        &mut PartitionMut::new(&mut part32[..], &counts[..], &displs[..]),
-    );
-    super::scatter::send_parts(world, &mesh, &checked(part32, size))
 }
 
-/// Rank 0: builds the nodal graph of `mesh`, sends every other rank the
-/// rows of its block (row pointers from 0, then the neighbours) and
-/// returns its own block's rows.
-fn send_rows<C: Communicator>(world: &C, mesh: &Mesh) -> NodeGraph {
+/// The rank whose block of `n` nodes over `size` ranks holds node `v`: the
+/// `r` with `block(r) <= v < block(r + 1)`.
+fn block_of(v: usize, n: usize, size: usize) -> usize {
+    (((v as u128 + 1) * size as u128 - 1) / n as u128) as usize
+}
+
+/// Rank 0: the cells touching each rank's block of nodes, in one pass;
+/// sends every other rank its cells and returns its own.
+fn send_cells<C: Communicator>(world: &C, mesh: &Mesh) -> Result<Cells, Error> {
     let (n, size) = (mesh.num_nodes(), world.size() as usize);
-    let graph = NodeGraph::new(mesh);
-    for r in 1..size {
-        let (lo, hi) = (block(n, size, r), block(n, size, r + 1));
-        let first = graph.xadj[lo];
-        let xadj: Vec<i32> = graph.xadj[lo..=hi].iter().map(|&x| x - first).collect();
-        let adjncy = &graph.adjncy[first as usize..graph.xadj[hi] as usize];
-        let dest = world.process_at_rank(r as i32);
-        dest.send(&xadj[..]);
-        dest.send(adjncy);
+    let mut by_rank: Vec<Cells> = (0..size).map(|_| Cells::new()).collect();
+    let mut ranks: Vec<usize> = Vec::with_capacity(32);
+    for cell in &mesh.cells {
+        ranks.clear();
+        ranks.extend(cell.iter().map(|&v| block_of(v, n, size)));
+        ranks.sort_unstable();
+        ranks.dedup();
+        for &r in &ranks {
+            by_rank[r].push(cell);
+        }
     }
-    let hi = block(n, size, 1);
-    NodeGraph {
-        xadj: graph.xadj[..=hi].to_vec(),
-        adjncy: graph.adjncy[..graph.xadj[hi] as usize].to_vec(),
+    for (r, cells) in by_rank.iter_mut().enumerate().skip(1) {
+        super::scatter::send_value(world, r, &*cells, "the cells of a block")?;
+        *cells = Cells::new();
     }
+    Ok(by_rank.swap_remove(0))
 }
 
 #[cfg(test)]
@@ -162,5 +182,17 @@ mod tests {
         assert_eq!(checked(vec![0, 3, 1, 1], 2), vec![0, 0, 1, 1]);
         assert_eq!(block_counts(7, 3), vec![2, 2, 3]);
         assert_eq!(blocks(7, 3), vec![0, 0, 0, 1, 1, 2, 2]);
+    }
+
+    /// Every node's block is the one whose range holds it.
+    #[test]
+    fn block_of_a_node() {
+        for (n, size) in [(7, 3), (8, 8), (100, 7), (1_000_003, 16)] {
+            for r in 0..size {
+                for v in block(n, size, r)..block(n, size, r + 1) {
+                    assert_eq!(block_of(v, n, size), r, "n {n}, {size} ranks, node {v}");
+                }
+            }
+        }
     }
 }

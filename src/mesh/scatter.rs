@@ -194,15 +194,7 @@ pub(super) fn send_parts<C: Communicator>(
     let nparts = world.size() as usize;
     let mut parts = Parts::new(mesh, part, nparts, None);
     for p in 1..nparts {
-        let raw = parts.make(p);
-        let buf = postcard::to_allocvec(&raw)
-            .map_err(|e| Error::Internal(format!("serializing the mesh part: {e}")))?;
-        drop(raw);
-        let dest = world.process_at_rank(p as i32);
-        dest.send(&(buf.len() as u64));
-        for chunk in buf.chunks(CHUNK) {
-            dest.send(chunk);
-        }
+        send_value(world, p, &parts.make(p), "the mesh part")?;
     }
     let own = parts.make(0);
     drop(parts);
@@ -224,16 +216,41 @@ pub(super) fn own_part<C: Communicator>(
 
 /// A rank other than 0: receives its raw part and builds its local mesh.
 pub(super) fn receive_part<C: Communicator>(world: &C) -> Result<LocalMesh, Error> {
+    build(world, receive_value(world, "the mesh part")?)
+}
+
+/// Rank 0: sends `value` (serialized, its length first, then messages of
+/// at most [`CHUNK`] bytes) to rank `dest`, which takes it with
+/// [`receive_value`]; `what` names it in an error.
+pub(super) fn send_value<C: Communicator, T: Serialize>(
+    world: &C,
+    dest: usize,
+    value: &T,
+    what: &str,
+) -> Result<(), Error> {
+    let buf = postcard::to_allocvec(value)
+        .map_err(|e| Error::Internal(format!("serializing {what}: {e}")))?;
+    let dest = world.process_at_rank(dest as i32);
+    dest.send(&(buf.len() as u64));
+    for chunk in buf.chunks(CHUNK) {
+        dest.send(chunk);
+    }
+    Ok(())
+}
+
+/// A rank other than 0: the value rank 0 sent it with [`send_value`].
+pub(super) fn receive_value<C: Communicator, T: for<'de> Deserialize<'de>>(
+    world: &C,
+    what: &str,
+) -> Result<T, Error> {
     let root = world.process_at_rank(0);
     let (len, _) = root.receive::<u64>();
     let mut buf = vec![0u8; len as usize];
     for chunk in buf.chunks_mut(CHUNK) {
         root.receive_into(chunk);
     }
-    let raw: RawPart = postcard::from_bytes(&buf)
-        .map_err(|e| Error::Internal(format!("reading the mesh part from rank 0: {e}")))?;
-    drop(buf);
-    build(world, raw)
+    postcard::from_bytes(&buf)
+        .map_err(|e| Error::Internal(format!("reading {what} from rank 0: {e}")))
 }
 
 /// The new global numbers of this rank's ghosts (`ghosts`: indices into
