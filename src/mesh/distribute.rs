@@ -145,13 +145,18 @@ impl NodeGraph {
     /// list per node this replaced took 0.25 s of a 0.33 s partition on
     /// rank 0 (60k-node tetrahedral mesh).
     pub fn of_cells(n: usize, cells: &Cells) -> NodeGraph {
-        NodeGraph::rows_of_cells(0..n, cells)
+        NodeGraph::rows_of_cells(n, 0..n, cells)
     }
 
     /// The rows of the nodes `rows` (a range of node numbers) of the graph
-    /// of [`NodeGraph::of_cells`]: row `i` of the result is node
-    /// `rows.start + i`, its neighbours numbered as in `cells`.
-    pub fn rows_of_cells(rows: std::ops::Range<usize>, cells: &Cells) -> NodeGraph {
+    /// of [`NodeGraph::of_cells`] (`cells` numbering `n` nodes): row `i`
+    /// of the result is node `rows.start + i`, its neighbours numbered as
+    /// in `cells`. Each row's neighbours are collected once (a mark per
+    /// node) and only those sorted, not the ~90 nodes of the ~23
+    /// tetrahedra around a node: the 1M-node generated block's graph in
+    /// 0.36-0.50 s against 0.73-0.79 s (three runs each; on a 446k-node
+    /// Gmsh file's numbering 1.3-1.7 s either way: cache misses rule).
+    pub fn rows_of_cells(n: usize, rows: std::ops::Range<usize>, cells: &Cells) -> NodeGraph {
         let (lo, m) = (rows.start, rows.len());
         let mine = |a: usize| a.wrapping_sub(lo) < m;
         let mut start = vec![0usize; m + 1];
@@ -175,20 +180,21 @@ impl NodeGraph {
         let mut xadj = Vec::with_capacity(m + 1);
         let mut adjncy = Vec::with_capacity(start[m] * 4);
         let mut list: Vec<i32> = Vec::with_capacity(64);
+        // mark[b] == v: b is in row v's list already (or is its node).
+        let mut mark = vec![u32::MAX; n];
         xadj.push(0i32);
         for v in 0..m {
             list.clear();
+            mark[lo + v] = v as u32;
             for &c in &around[start[v]..start[v + 1]] {
-                list.extend(
-                    cells
-                        .get(c as usize)
-                        .iter()
-                        .filter(|&&b| b != lo + v)
-                        .map(|&b| b as i32),
-                );
+                for &b in cells.get(c as usize) {
+                    if mark[b] != v as u32 {
+                        mark[b] = v as u32;
+                        list.push(b as i32);
+                    }
+                }
             }
             list.sort_unstable();
-            list.dedup();
             adjncy.extend_from_slice(&list);
             xadj.push(adjncy.len() as i32);
         }

@@ -71,7 +71,7 @@ pub fn own_part<C: Communicator>(world: &C, mesh: &Mesh) -> Result<LocalMesh, Er
     }
     let rank = world.rank() as usize;
     let rows = block(n, size, rank)..block(n, size, rank + 1);
-    let mine = parts_of_rows(n, &NodeGraph::rows_of_cells(rows, &mesh.cells))?;
+    let mine = parts_of_rows(n, &NodeGraph::rows_of_cells(n, rows, &mesh.cells))?;
     let counts = block_counts(n, size);
     let displs = crate::comm::displacements(&counts);
     let mut part32 = vec![0u32; n];
@@ -121,7 +121,7 @@ pub fn distribute<C: Communicator>(
             None => super::scatter::receive_value(world, "the cells of a block")?,
         };
         let rows = block(n, size, rank)..block(n, size, rank + 1);
-        let mine = parts_of_rows(n, &NodeGraph::rows_of_cells(rows, &cells))?;
+        let mine = parts_of_rows(n, &NodeGraph::rows_of_cells(n, rows, &cells))?;
         drop(cells);
         if rank != 0 {
             root.gather_varcount_into(&mine[..]);
