@@ -109,66 +109,53 @@ fn generated_mesh_split_by_rcb_with_gamg_agrees() {
     agree("gen_gamg", &args, &[3]);
 }
 
+/// A generated mesh split by `partition` on several ranks gives the
+/// one-rank answers: triangles with the direct solver on 2 and 3 ranks,
+/// tetrahedra with Coulomb friction and GAMG on 2 and 4.
+fn generated_split_agrees(partition: &str) {
+    let tri = [
+        "-options_file",
+        "options/hertz",
+        "-mesh_generate",
+        "hertz2d",
+        "-mesh_h",
+        "0.25",
+    ];
+    agree_split(&format!("gen_tri_{partition}"), &tri, &[2, 3], partition);
+    let tet = [
+        "-options_file",
+        "options/block3d-coulomb",
+        "-mesh_generate",
+        "block3d",
+        "-mesh_h",
+        "0.1",
+        "-ksp_type",
+        "cg",
+        "-pc_type",
+        "gamg",
+        "-ksp_rtol",
+        "1e-12",
+    ];
+    agree_split(
+        &format!("gen_tet_gamg_{partition}"),
+        &tet,
+        &[2, 4],
+        partition,
+    );
+}
+
 /// METIS' parts of a generated mesh (the default with GAMG): rank 0
 /// partitions, every rank builds its own part from its own copy.
 #[test]
 fn generated_mesh_split_by_metis_agrees() {
-    let tri = [
-        "-options_file",
-        "options/hertz",
-        "-mesh_generate",
-        "hertz2d",
-        "-mesh_h",
-        "0.25",
-    ];
-    agree_split("gen_tri", &tri, &[2, 3], "metis");
-    let tet = [
-        "-options_file",
-        "options/block3d-coulomb",
-        "-mesh_generate",
-        "block3d",
-        "-mesh_h",
-        "0.1",
-        "-ksp_type",
-        "cg",
-        "-pc_type",
-        "gamg",
-        "-ksp_rtol",
-        "1e-12",
-    ];
-    agree_split("gen_tet_gamg", &tet, &[2, 4], "metis");
+    generated_split_agrees("metis");
 }
 
-/// PT-Scotch's parts of a generated mesh (every rank builds its block of
-/// the graph from its own copy, and its own part): the same answers on 2,
-/// 3 and 4 ranks, triangles with the direct solver, tetrahedra with
-/// Coulomb friction and GAMG.
+/// PT-Scotch's parts of a generated mesh: every rank builds its block of
+/// the graph from its own copy, and its own part.
 #[test]
 fn generated_mesh_split_by_ptscotch_agrees() {
-    let tri = [
-        "-options_file",
-        "options/hertz",
-        "-mesh_generate",
-        "hertz2d",
-        "-mesh_h",
-        "0.25",
-    ];
-    agree_split("gen_tri_pt", &tri, &[2, 3], "ptscotch");
-    let tet = [
-        "-options_file",
-        "options/block3d-coulomb",
-        "-mesh_generate",
-        "block3d",
-        "-mesh_h",
-        "0.1",
-        "-ksp_type",
-        "cg",
-        "-pc_type",
-        "gamg",
-        "-ksp_rtol",
-        "1e-12",
-    ];
-    agree_split("gen_tet_gamg_pt", &tet, &[2, 4], "ptscotch");
+    generated_split_agrees("ptscotch");
 }
 
 /// PT-Scotch's parts are the same at every run (with its own threads they

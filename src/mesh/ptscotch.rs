@@ -20,11 +20,14 @@ fn block(n: usize, size: usize, r: usize) -> usize {
     r * n / size
 }
 
-/// The block sizes of every rank, as MPI counts.
-fn block_counts(n: usize, size: usize) -> Vec<i32> {
-    (0..size)
+/// The block sizes of every rank and their offsets, as MPI counts: the
+/// layout of the gathered parts.
+fn block_layout(n: usize, size: usize) -> (Vec<i32>, Vec<i32>) {
+    let counts: Vec<i32> = (0..size)
         .map(|r| (block(n, size, r + 1) - block(n, size, r)) as i32)
-        .collect()
+        .collect();
+    let displs = crate::comm::displacements(&counts);
+    (counts, displs)
 }
 
 /// Contiguous blocks: the part of each of `n` nodes.
@@ -72,9 +75,8 @@ pub fn own_part<C: Communicator>(world: &C, mesh: &Mesh) -> Result<LocalMesh, Er
     let rank = world.rank() as usize;
     let rows = block(n, size, rank)..block(n, size, rank + 1);
     let mine = parts_of_rows(n, &NodeGraph::rows_of_cells(n, rows, &mesh.cells))?;
-    let counts = block_counts(n, size);
-    let displs = crate::comm::displacements(&counts);
     let mut part32 = vec![0u32; n];
+    let (counts, displs) = block_layout(n, size);
     world.all_gather_varcount_into(
         &mine[..],
         &mut PartitionMut::new(&mut part32[..], &counts[..], &displs[..]),
@@ -127,9 +129,8 @@ pub fn distribute<C: Communicator>(
             root.gather_varcount_into(&mine[..]);
             return super::scatter::receive_part(world);
         }
-        let counts = block_counts(n, size);
-        let displs = crate::comm::displacements(&counts);
         let mut part32 = vec![0u32; n];
+        let (counts, displs) = block_layout(n, size);
         root.gather_varcount_into_root(
             &mine[..],
             &mut PartitionMut::new(&mut part32[..], &counts[..], &displs[..]),
@@ -181,7 +182,7 @@ mod tests {
         assert_eq!(checked(vec![1, 0, 1, 0], 2), vec![1, 0, 1, 0]);
         assert_eq!(checked(vec![0, 0, 0, 0], 2), vec![0, 0, 1, 1]);
         assert_eq!(checked(vec![0, 3, 1, 1], 2), vec![0, 0, 1, 1]);
-        assert_eq!(block_counts(7, 3), vec![2, 2, 3]);
+        assert_eq!(block_layout(7, 3), (vec![2, 2, 3], vec![0, 2, 4]));
         assert_eq!(blocks(7, 3), vec![0, 0, 0, 1, 1, 2, 2]);
     }
 
