@@ -115,8 +115,8 @@ pub fn distribute<C: Communicator>(
     let mut n = mesh.as_ref().map_or(0, |m| m.num_nodes()) as u64;
     root.broadcast_into(&mut n);
     let n = n as usize;
-    let part = if n < size {
-        blocks(n, size)
+    let part = if n < size || size == 1 {
+        blocks(n, size) // one rank: one part, no graph
     } else {
         let cells = match &mesh {
             Some(mesh) => send_cells(world, mesh)?,
