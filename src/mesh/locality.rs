@@ -52,12 +52,13 @@ fn morton_keys(coords: &[f64], dim: usize) -> Vec<u64> {
     coords
         .chunks_exact(dim)
         .map(|p| {
+            let mut q = [0u64; 3];
+            for k in 0..dim {
+                q[k] = (((p[k] - lo[k]) * scale[k]) as u64).min(cells as u64);
+            }
             let mut key = 0u64;
-            let q: Vec<u64> = (0..dim)
-                .map(|k| (((p[k] - lo[k]) * scale[k]) as u64).min(cells as u64))
-                .collect();
             for b in (0..bits).rev() {
-                for qk in &q {
+                for qk in &q[..dim] {
                     key = (key << 1) | ((qk >> b) & 1);
                 }
             }
