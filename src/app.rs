@@ -423,10 +423,6 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                 Ok(distribute::partition_rcb(&mesh.coords, mesh.dim, size))
             })?,
             Partitioner::Metis => distribute::distribute(self.world, load, |mesh| {
-                if size == 1 {
-                    // One part: no graph (1.3-1.7 s on a 446k-node file).
-                    return Ok(vec![0; mesh.num_nodes()]);
-                }
                 distribute::partition_nodes(&distribute::NodeGraph::new(mesh), size)
             })?,
         };
