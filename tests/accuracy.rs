@@ -37,7 +37,8 @@ use std::time::Instant;
 /// them. The paper's stopping test far below the errors measured here, with
 /// Anderson acceleration so that it ends; `-ubr_stop paper` is ignored by a
 /// binary that does not know it. CF-FP's fixed point to 1e-11 (its change
-/// of s stalled at 1.4e-12 on incline2d_coulomb at r = 4.7E). Two such
+/// of s stalled at 1.4e-12 on incline2d_coulomb at r = 4.7E: the floor of
+/// its direction typed to twelve digits, normalised since). Two such
 /// references with different memories and tolerances agreed to 2e-8 on
 /// every scene, and SNES VI agrees with the frictionless ones to 3e-8.
 const REFERENCE: &[&str] = &[
@@ -697,6 +698,46 @@ fn inexact_solves_do_not_stall_anderson() {
         assert!(
             en <= DEFAULT_TOL && et <= DEFAULT_TOL,
             "{name}: err_n {en:.2e}, err_t {et:.2e}"
+        );
+    }
+}
+
+/// A tight request on a tilted normal: incline2d_coulomb's direction is
+/// typed to twelve digits (norm 1 - 2.5e-13). Used as given, it left a
+/// normal part of 1e-12 in every tangential displacement, a floor under the
+/// residual: at -ubr_lambda_rtol 1e-10 the Tresca solve stalled at 1.5e-12
+/// and the run failed (exit 3), and Anderson's steps along the normal part
+/// of the tangential multiplier (which the map leaves as it is) moved
+/// lambda_n and lambda_t by 1e-5 with the traction unchanged. Now it
+/// converges on 1 and 2 ranks, its normals are unit and its tangential
+/// stresses tangential to round-off, and it agrees with the reference.
+#[test]
+fn tilted_normal_reaches_a_tight_tolerance() {
+    let name = "incline2d_coulomb";
+    let reference = reference(name);
+    for n in [1, 2] {
+        let s = run(name, n, &["-ubr_lambda_rtol", "1e-10"]);
+        assert!(
+            s.converged(),
+            "{name} -n {n}: {}\n{}",
+            s.summary(),
+            s.stdout
+        );
+        let lmax = s.rows.iter().map(|r| r.lambda_n.abs()).fold(0.0, f64::max);
+        for r in &s.rows {
+            let unit = (common::norm(&r.normal) - 1.0).abs();
+            let along: f64 = r.lambda_t.iter().zip(&r.normal).map(|(t, n)| t * n).sum();
+            assert!(
+                unit <= 1e-15 && along.abs() <= 1e-12 * lmax,
+                "{name} -n {n}, node {}: |n| - 1 = {unit:.1e}, lambda_t . n = {along:.3e} (max lambda_n {lmax:.3e})",
+                r.node
+            );
+        }
+        let (en, et) = errors(&s.rows, &reference.rows);
+        assert!(
+            en <= 1e-8 && et <= 1e-8,
+            "{name} -n {n}: err_n {en:.2e}, err_t {et:.2e}; {}",
+            s.summary()
         );
     }
 }

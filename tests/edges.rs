@@ -333,17 +333,40 @@ fn failures_name_their_cause() {
     let run = hertz(&["-ubr_r", "1e30"]);
     refused(&run, 3, &["stalled", "-ubr_r", "trial r0", "-ubr_r auto"]);
     assert!(run.stderr.contains("warning: -ubr_r 1.000e30"));
-    let its: usize = run
-        .stdout
-        .lines()
-        .find(|l| l.trim_start().starts_with("iterations"))
-        .and_then(|l| l.split_whitespace().nth(1))
-        .and_then(|v| v.trim_end_matches(',').parse().ok())
-        .expect("iterations in the summary");
+    let its = summary_iterations(&run.stdout);
     assert!(its <= 600, "stopped after {its} iterations");
     // r 1e-34 times too small: r named.
     let run = hertz(&["-ubr_r", "1e-30"]);
     refused(&run, 3, &["-ubr_r", "trial r0"]);
+    // A target below round-off: stopped once the residual stays there
+    // (it ran to -ubr_max_it, 10,000 iterations, before), the tolerance
+    // named. On one rank (the rounding of two ranks met 1e-14 here once).
+    let run = mpirun(
+        1,
+        &[
+            "-options_file",
+            "options/hertz",
+            "-ubr_lambda_rtol",
+            "1e-14",
+        ],
+    );
+    refused(
+        &run,
+        3,
+        &["reached round-off", "-ubr_lambda_rtol 1.0e-14", "looser"],
+    );
+    let its = summary_iterations(&run.stdout);
+    assert!(its <= 600, "stopped after {its} iterations");
+}
+
+/// The iteration count of a run's summary.
+fn summary_iterations(stdout: &str) -> usize {
+    stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("iterations"))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|v| v.trim_end_matches(',').parse().ok())
+        .expect("iterations in the summary")
 }
 
 /// The beam of items 3 and 4: clamped at its root, pressed onto the plane

@@ -52,6 +52,12 @@ pub const STALL_ITS: usize = 500;
 const STALL_FACTOR: f64 = 0.97;
 /// Residuals below this are round-off: no progress is expected of them.
 const STALL_FLOOR: f64 = 1e-12;
+/// Evaluations without progress at round-off (best residual at most
+/// `STALL_FLOOR`) after which a run of the accuracy test stops: its
+/// estimate cannot fall further. A request below what double precision
+/// resolves ran to -ubr_max_it before (hertz_1692 at -ubr_lambda_rtol
+/// 1e-14: 10,000 iterations, the residual flat at 1e-15 after 88).
+pub const ROUNDOFF_ITS: usize = 100;
 
 /// Whether a run still makes progress (see [`STALL_ITS`]).
 #[derive(Clone, Debug)]
@@ -90,6 +96,12 @@ impl Progress {
         }
         self.since >= STALL_ITS && self.best > STALL_FLOOR
     }
+
+    /// At round-off: the best residual at most `STALL_FLOOR`, without
+    /// progress in the last [`ROUNDOFF_ITS`] evaluations.
+    pub fn at_roundoff(&self) -> bool {
+        self.best <= STALL_FLOOR && self.since >= ROUNDOFF_ITS
+    }
 }
 
 /// Evaluations whose ratios or estimates the accuracy test remembers.
@@ -111,6 +123,8 @@ pub struct Accuracy {
     pub residual: f64,
     pub amplification: f64,
     pub estimate: f64,
+    /// The smallest estimate of the run.
+    pub smallest: f64,
 }
 
 impl Accuracy {
@@ -123,6 +137,7 @@ impl Accuracy {
             residual: f64::INFINITY,
             amplification: f64::INFINITY,
             estimate: f64::INFINITY,
+            smallest: f64::INFINITY,
         }
     }
 
@@ -165,6 +180,7 @@ impl Accuracy {
         self.residual = p;
         self.amplification = k;
         self.estimate = if p == 0.0 { 0.0 } else { p * k };
+        self.smallest = self.smallest.min(self.estimate);
         self.estimate
     }
 
@@ -231,10 +247,17 @@ mod tests {
         }
         assert_eq!(when, Some(STALL_ITS));
         assert_eq!(q.changes, q.since);
-        // At round-off: never stalled.
+        // At round-off: never stalled, but at round-off after ROUNDOFF_ITS.
         let mut z = Progress::default();
-        for _ in 0..2000 {
+        for k in 0..2000 {
             assert!(!z.record(1e-15, 0));
+            assert_eq!(z.at_roundoff(), k >= ROUNDOFF_ITS, "{k}");
+        }
+        // Still falling below the floor: not at round-off.
+        let mut f = Progress::default();
+        for k in 0..1000 {
+            f.record(1e-13 * 0.9f64.powi(k), 0);
+            assert!(!f.at_roundoff());
         }
     }
 

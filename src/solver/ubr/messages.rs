@@ -60,6 +60,21 @@ pub(super) fn stalled(
     )
 }
 
+/// The message of a run of the accuracy test stopped at round-off: the
+/// target is below what double precision resolves on this problem.
+pub(super) fn roundoff(
+    name: &str,
+    ctl: &UbrControl,
+    out: &UbrOutcome,
+    acc: &Accuracy,
+    progress: &Progress,
+) -> String {
+    format!(
+        "{name} reached round-off: its residual has stayed at {:.3e} (below 1e-12, where double precision ends) for the last {} iterations, stopped after {}; error estimate of lambda {:.3e} (residual x amplification {:.3e}, the smallest of the run {:.3e}) against the target -ubr_lambda_rtol {:.1e} / 4, which is below what double precision resolves on this problem; ask for a looser -ubr_lambda_rtol",
+        progress.best, progress.since, out.iterations, out.error_estimate, out.k, acc.smallest, ctl.lambda_rtol
+    )
+}
+
 /// The message of a run stopped by the iteration cap: the failing test,
 /// its value and target, and what to try.
 pub(super) fn failure(
