@@ -624,6 +624,10 @@ fn ubr_settings() -> Result<UbrSettings, Error> {
             .unwrap_or(1e-3 * rtol / UBR_RTOL.default),
     )?;
     let fp_rtol = positive(UBR_FP_RTOL.name, UBR_FP_RTOL.get()?)?;
+    // Read where the factorization starts (src/linalg/memfit.rs).
+    if let Some(v) = UBR_MEMORY_MB.real()? {
+        positive(UBR_MEMORY_MB.name, v)?;
+    }
     let inner_rtol_factor = UBR_INNER_RTOL_FACTOR.get()?;
     if !(inner_rtol_factor > 0.0 && inner_rtol_factor < 1.0) {
         return bad(format!(

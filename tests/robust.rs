@@ -109,6 +109,53 @@ fn a_memory_limit_ends_every_rank_with_exit_4() {
     assert!(run.seconds < 60.0, "took {:.1} s", run.seconds);
 }
 
+/// A factorization larger than the machine: refused after the analysis,
+/// before it starts (the kernel killed such a run, signal 9, nothing
+/// written: the generated block at -mesh_h 0.006 on this 24 GB machine).
+/// Here the machine's memory is `-ubr_memory_mb 5`, below what MUMPS'
+/// analysis predicts (about 30 MB per rank): exit 4 on 1 and 2 ranks, the
+/// prediction and the budget named, the report written, nothing factorized.
+#[test]
+fn factorization_larger_than_the_machine_is_refused() {
+    for ranks in [1, 2] {
+        let (run, dir) = run(
+            "oom-machine",
+            ranks,
+            None,
+            120,
+            &[
+                "-options_file",
+                "options/block3d",
+                "-mesh",
+                "meshes/block3d_2357.msh",
+                "-ubr_memory_mb",
+                "5",
+            ],
+        );
+        assert_eq!(run.status, Some(4), "stderr:\n{}", run.stderr);
+        let rep = failed_report(&run, &dir, 262);
+        let failure = rep.failure.as_deref().unwrap();
+        let plural = if ranks == 1 { "rank" } else { "ranks" };
+        for needle in [
+            "error: out of memory: MUMPS' analysis predicts that the factorization needs",
+            &format!("on the {ranks} {plural} of one machine"),
+            "more than the 5 MB that -ubr_memory_mb allows",
+            "-ksp_type cg -pc_type gamg",
+        ] {
+            assert!(failure.contains(needle), "'{needle}' not in: {failure}");
+        }
+        assert_eq!(rep.iterations, 0.0);
+        assert_eq!(rep.linear_solves, 0.0);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    // The budget is checked as an option: positive.
+    let run = mpirun(
+        2,
+        &["-options_file", "options/block3d", "-ubr_memory_mb", "0"],
+    );
+    run.refused("-ubr_memory_mb 0", 2, &["-ubr_memory_mb", "not positive"]);
+}
+
 #[test]
 fn mumps_out_of_memory_writes_the_report() {
     // MUMPS' own memory cap (ICNTL(23), MB per rank) far below what the

@@ -477,10 +477,10 @@ impl Direct {
         if let Err(e) = analysed {
             return Direct::failed(direct, e);
         }
-        let factorized = {
+        let factorized = super::memfit::fits(world, &direct.mumps).and_then(|()| {
             let _e = direct.ev_factor.begin();
             direct.mumps.factorize()
-        };
+        });
         direct.flops = direct.mumps.rinfog(3);
         if let Err(e) = factorized {
             return Direct::failed(direct, e);

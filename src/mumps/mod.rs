@@ -194,6 +194,11 @@ impl Mumps {
         self.id.infog[i - 1]
     }
 
+    /// INFO(i) (1-based): this rank's.
+    pub fn info(&self, i: usize) -> i32 {
+        self.id.info[i - 1]
+    }
+
     /// The distributed assembled matrix (ICNTL(18) = 3, ICNTL(5) = 0): this
     /// rank's entries, 1-based, one triangle for a symmetric matrix
     /// (duplicates are summed); `n` the global order.
