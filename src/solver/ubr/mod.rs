@@ -137,6 +137,10 @@ pub struct UbrOutcome {
     pub anderson_rejected: usize,
     /// Why the run stopped without converging (None: converged).
     pub failure: Option<String>,
+    /// Stopped at round-off (the accuracy test, its residual flat at 1e-12
+    /// or less): as accurate as double precision gives, its estimate above
+    /// the target.
+    pub roundoff: bool,
 }
 
 /// Runs UBR-C (`friction_bound` = None, the problem assembled without the

@@ -841,7 +841,8 @@ impl<'a, C: Communicator> Run<'a, C> {
         let (name, ctl, r) = (self.name, self.ctl, self.r);
         let mut out = self.out;
         if !out.converged {
-            out.failure = Some(if !self.paper && self.progress.at_roundoff() {
+            out.roundoff = !self.paper && self.progress.at_roundoff();
+            out.failure = Some(if out.roundoff {
                 roundoff(name, ctl, &out, &self.acc, &self.progress)
             } else if self.progress.since >= STALL_ITS {
                 let friction = self.friction_bound.is_some() && !self.no_friction;
