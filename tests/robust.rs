@@ -112,11 +112,15 @@ fn a_memory_limit_ends_every_rank_with_exit_4() {
 /// A factorization larger than the machine: refused after the analysis,
 /// before it starts (the kernel killed such a run, signal 9, nothing
 /// written: the generated block at -mesh_h 0.006 on this 24 GB machine).
-/// Here the machine's memory is `-ubr_memory_mb 5`, below what MUMPS'
-/// analysis predicts (about 30 MB per rank): exit 4 on 1 and 2 ranks, the
-/// prediction and the budget named, the report written, nothing factorized.
+/// Here the machine's memory is `-ubr_memory_mb 12`, above the matrix (5 MB)
+/// and below what MUMPS' analysis predicts (24 MB on one rank, 45 on two):
+/// exit 4 on 1 and 2 ranks, the prediction and the budget named, the
+/// report written, nothing factorized. At 1 MB the matrix alone is refused
+/// before the assembly (the generated block at -mesh_h 0.006 on this
+/// machine, 24 GB of matrix, was killed during it), with no report, on
+/// CG + GAMG too.
 #[test]
-fn factorization_larger_than_the_machine_is_refused() {
+fn runs_larger_than_the_machine_are_refused() {
     for ranks in [1, 2] {
         let (run, dir) = run(
             "oom-machine",
@@ -129,7 +133,7 @@ fn factorization_larger_than_the_machine_is_refused() {
                 "-mesh",
                 "meshes/block3d_2357.msh",
                 "-ubr_memory_mb",
-                "5",
+                "12",
             ],
         );
         assert_eq!(run.status, Some(4), "stderr:\n{}", run.stderr);
@@ -139,7 +143,7 @@ fn factorization_larger_than_the_machine_is_refused() {
         for needle in [
             "error: out of memory: MUMPS' analysis predicts that the factorization needs",
             &format!("on the {ranks} {plural} of one machine"),
-            "more than the 5 MB that -ubr_memory_mb allows",
+            "more than the 12 MB that -ubr_memory_mb allows",
             "-ksp_type cg -pc_type gamg",
         ] {
             assert!(failure.contains(needle), "'{needle}' not in: {failure}");
@@ -147,6 +151,30 @@ fn factorization_larger_than_the_machine_is_refused() {
         assert_eq!(rep.iterations, 0.0);
         assert_eq!(rep.linear_solves, 0.0);
         let _ = std::fs::remove_dir_all(&dir);
+    }
+    for (ranks, extra) in [(1, None), (2, None), (2, Some("gamg"))] {
+        let mut a = vec![
+            "-options_file",
+            "options/block3d",
+            "-mesh",
+            "meshes/block3d_2357.msh",
+            "-ubr_memory_mb",
+            "1",
+        ];
+        if let Some(pc) = extra {
+            a.extend_from_slice(&["-ksp_type", "cg", "-pc_type", pc]);
+        }
+        let run = mpirun(ranks, &a);
+        let line = run.refused(
+            "matrix over -ubr_memory_mb",
+            4,
+            &[
+                "the stiffness matrix alone",
+                "more than the 1 MB that -ubr_memory_mb allows",
+            ],
+        );
+        assert_eq!(line.contains("MUMPS' copy"), extra.is_none(), "{line}");
+        assert!(run.seconds < 20.0, "took {:.1} s", run.seconds);
     }
     // The budget is checked as an option: positive.
     let run = mpirun(

@@ -56,6 +56,43 @@ fn read_bytes(path: &str) -> Option<f64> {
     std::fs::read_to_string(path).ok()?.trim().parse().ok()
 }
 
+/// The machine with the largest need over free memory, when some need
+/// exceeds it: its need in MB summed over its ranks, its largest rank's,
+/// its free memory (or `-ubr_memory_mb`) and its ranks; and whether the
+/// budget was the user's. `None` (on every rank) when all fit or the free
+/// memory cannot be read.
+fn over_budget<C: Communicator>(world: &C, need: f64) -> Result<Option<([f64; 4], bool)>, Error> {
+    let node = world.split_shared(world.rank());
+    let [node_need, node_ranks] = allreduce_sum(&node, [need, 1.0]);
+    let [node_largest] = allreduce_max_n(&node, [need]);
+    let given = UBR_MEMORY_MB.real()?;
+    let avail = given.or_else(available_mb);
+    // The ratio need / free of this machine (0 where unknown).
+    let ratio = avail.map_or(0.0, |a| node_need / a.max(1.0));
+    let [worst] = allreduce_max_n(world, [ratio]);
+    if worst <= 1.0 {
+        return Ok(None);
+    }
+    let mine = if ratio == worst {
+        [node_need, node_largest, avail.unwrap_or(0.0), node_ranks]
+    } else {
+        [0.0; 4]
+    };
+    Ok(Some((allreduce_max_n(world, mine), given.is_some())))
+}
+
+/// The words of an over-budget machine: "N MB on the P ranks of one
+/// machine (L MB on the largest), ..." and why that is too much.
+fn over_words([need, largest, avail, ranks]: [f64; 4], given: bool) -> String {
+    let plural = if ranks == 1.0 { "" } else { "s" };
+    let room = if given {
+        format!("more than the {avail:.0} MB that -ubr_memory_mb allows them")
+    } else {
+        format!("and {avail:.0} MB are free there (free memory and swap): the system would kill the run")
+    };
+    format!("{need:.0} MB on the {ranks} rank{plural} of one machine ({largest:.0} MB on the largest), {room}")
+}
+
 /// After the analysis: `Err(OutOfMemory)` on every rank when on some
 /// machine the factorization's predicted memory, summed over its ranks,
 /// exceeds what the machine has free (or `-ubr_memory_mb`, what its ranks
@@ -63,42 +100,52 @@ fn read_bytes(path: &str) -> Option<f64> {
 /// memory (`-mat_mumps_icntl_23`: MUMPS then refuses itself) or where the
 /// free memory cannot be read.
 pub fn fits<C: Communicator>(world: &C, mumps: &Mumps) -> Result<(), Error> {
-    let capped = options::get_string("-mat_mumps_icntl_23")?.is_some();
+    if options::get_string("-mat_mumps_icntl_23")?.is_some() {
+        return Ok(());
+    }
     // INFO(15), MB, in millions of MB when negative.
     let need = match mumps.info(15) {
         v if v < 0 => -(v as f64) * 1e6,
         v => v as f64,
     };
-    let node = world.split_shared(world.rank());
-    let [node_need, node_ranks] = allreduce_sum(&node, [need, 1.0]);
-    let [node_largest] = allreduce_max_n(&node, [need]);
-    let given = UBR_MEMORY_MB.real()?;
-    let avail = given.or_else(available_mb);
-    let given = given.is_some();
-    // The ratio need / free of this machine (0 where unknown), and the
-    // numbers of the machine with the largest.
-    let ratio = match avail {
-        Some(a) if !capped => node_need / a.max(1.0),
-        _ => 0.0,
-    };
-    let [worst] = allreduce_max_n(world, [ratio]);
-    if worst <= 1.0 {
+    let Some((numbers, given)) = over_budget(world, need)? else {
         return Ok(());
-    }
-    let mine = if ratio == worst {
-        [node_need, node_largest, avail.unwrap_or(0.0), node_ranks]
-    } else {
-        [0.0; 4]
-    };
-    let [need, largest, avail, ranks] = allreduce_max_n(world, mine);
-    let plural = if ranks == 1.0 { "" } else { "s" };
-    let room = if given {
-        format!("more than the {avail:.0} MB that -ubr_memory_mb allows them")
-    } else {
-        format!("and {avail:.0} MB are free there (free memory and swap): the system would kill the run")
     };
     Err(Error::OutOfMemory(format!(
-        "MUMPS' analysis predicts that the factorization needs {need:.0} MB on the {ranks} rank{plural} of one machine ({largest:.0} MB on the largest), {room}; use more machines, the iterative solver (-ksp_type cg -pc_type gamg, a fraction of the memory), or a coarser mesh (-mat_mumps_icntl_23 MB caps each rank's memory and skips this check)"
+        "MUMPS' analysis predicts that the factorization needs {}; use more machines, the iterative solver (-ksp_type cg -pc_type gamg, a fraction of the memory), or a coarser mesh (-mat_mumps_icntl_23 MB caps each rank's memory and skips this check)",
+        over_words(numbers, given)
+    )))
+}
+
+/// Bytes per stored entry of the stiffness matrix that a run surely
+/// allocates: its column index and value (4 + 8), and with MUMPS called
+/// directly the lower triangle's triplet (4 + 4 + 8 for half the entries).
+const BYTES_PER_ENTRY: [f64; 2] = [12.0, 20.0];
+
+/// Before the assembly: `Err(OutOfMemory)` on every rank when on some
+/// machine the stiffness matrix alone (`entries` on this rank; with MUMPS
+/// called directly, `direct`, its triplets too) exceeds the free memory
+/// (or `-ubr_memory_mb`). A lower bound of the run's memory, so it refuses
+/// nothing that could run: the generated block at -mesh_h 0.006 (28M
+/// unknowns, 1.3e9 entries: 25.6 GB) on 2 ranks of this 24 GB machine,
+/// killed by the system during the assembly before.
+pub fn assembly_fits<C: Communicator>(
+    world: &C,
+    entries: usize,
+    direct: bool,
+) -> Result<(), Error> {
+    let bytes = entries as f64 * BYTES_PER_ENTRY[usize::from(direct)];
+    let Some((numbers, given)) = over_budget(world, bytes / (1u64 << 20) as f64)? else {
+        return Ok(());
+    };
+    let what = if direct {
+        "the stiffness matrix alone (its entries, and MUMPS' copy of its lower triangle; the factorization needs many times more)"
+    } else {
+        "the stiffness matrix alone"
+    };
+    Err(Error::OutOfMemory(format!(
+        "{what} needs {}; use more machines or a coarser mesh",
+        over_words(numbers, given)
     )))
 }
 

@@ -6,7 +6,7 @@
 pub mod direct;
 mod distsol;
 pub mod linear;
-mod memfit;
+pub mod memfit;
 pub mod ordering;
 mod schur;
 
