@@ -1,15 +1,17 @@
-//! Whether the factorization MUMPS' analysis predicts fits in the memory of
-//! each machine, checked before it starts. Linux grants allocations it
-//! cannot back (overcommit), so a factorization larger than the machine is
-//! not refused by its allocations: the kernel kills a rank (signal 9,
-//! mpirun's notice, nothing written). Measured: the generated block at
-//! `-mesh_h 0.006` (9.5M nodes) with the default direct solver on 2 ranks
-//! of this 24 GB machine was killed that way after the assembly. Now the
-//! analysis' prediction (INFO(15): the MB this rank's in-core
-//! factorization needs) summed over the ranks of each machine is compared
-//! with what that machine has free (MemAvailable and SwapFree, within the
-//! memory cgroup's limit where one is set), and a run that cannot fit ends
-//! with the numbers and exit status 4 before factorizing.
+//! Whether a run fits in the memory of each machine, checked before the
+//! assembly and before the factorization. Linux grants allocations it
+//! cannot back (overcommit), so a run larger than the machine is not
+//! refused by its allocations: the kernel kills a rank (signal 9, mpirun's
+//! notice, nothing written). Measured on this 24 GB machine, 2 ranks, the
+//! generated block with the default direct solver: at `-mesh_h 0.006`
+//! (28M unknowns) killed during the assembly; at `-mesh_h 0.01` (6.2M) the
+//! factorization would need 303 GB. Now the need of each rank, summed over
+//! the ranks of each machine, is compared with what that machine has free
+//! (MemAvailable and SwapFree, within the memory cgroup's limit where one
+//! is set; or `-ubr_memory_mb`): before the assembly a lower bound, the
+//! stiffness matrix alone ([`assembly_fits`]); after MUMPS' analysis its
+//! prediction, INFO(15) ([`fits`]). A run that cannot fit ends with the
+//! numbers and exit status 4.
 
 use crate::comm::{allreduce_max_n, allreduce_sum};
 use crate::error::Error;
