@@ -119,8 +119,11 @@ pub struct ContactSettings {
 
 impl ContactSettings {
     /// "a" or "a, b": the surfaces, for messages.
+    /// The contact surfaces' names; with pairs alone, their slaves'.
     pub fn surface_names(&self) -> String {
-        self.surfaces.join(", ")
+        let slaves: Vec<&str> = self.pairs.iter().map(|(s, _)| s.as_str()).collect();
+        let names: Vec<&str> = self.surfaces.iter().map(String::as_str).collect();
+        if names.is_empty() { slaves } else { names }.join(", ")
     }
 }
 

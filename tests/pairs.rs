@@ -582,30 +582,7 @@ fn ball_on_a_block_follows_hertz() {
         &[("hc", "0.02")],
     );
     let msh = out.to_str().unwrap();
-    let args = [
-        "-mesh",
-        msh,
-        "-E",
-        "2000",
-        "-nu",
-        "0.3",
-        "-contact_pair",
-        "slave,master",
-        "-dirichlet_base",
-        "uz=0",
-        "-dirichlet_x0_ball",
-        "ux=0",
-        "-dirichlet_y0_ball",
-        "uy=0",
-        "-dirichlet_x0_block",
-        "ux=0",
-        "-dirichlet_y0_block",
-        "uy=0",
-        "-traction_top",
-        "0,0,-1.574",
-        "-ubr_lambda_rtol",
-        "1e-8",
-    ];
+    let args = ball_args(msh, "1e-8");
     let (run, report, rows) = solve_rows("ball-1", 1, &args);
     assert!(report.converged, "{}", run.stdout);
     // F from the contact forces (the quarter's, times 4).
@@ -638,6 +615,61 @@ fn ball_on_a_block_follows_hertz() {
         "1 and 2 ranks differ by {gap:.3e}\n{}",
         run.stdout
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The ball on the block of `ball_on_a_block_follows_hertz`, on mesh `msh`,
+/// to `-ubr_lambda_rtol tol`.
+fn ball_args<'a>(msh: &'a str, tol: &'a str) -> Vec<&'a str> {
+    vec![
+        "-mesh",
+        msh,
+        "-E",
+        "2000",
+        "-nu",
+        "0.3",
+        "-contact_pair",
+        "slave,master",
+        "-dirichlet_base",
+        "uz=0",
+        "-dirichlet_x0_ball",
+        "ux=0",
+        "-dirichlet_y0_ball",
+        "uy=0",
+        "-dirichlet_x0_block",
+        "ux=0",
+        "-dirichlet_y0_block",
+        "uy=0",
+        "-traction_top",
+        "0,0,-1.574",
+        "-ubr_lambda_rtol",
+        tol,
+    ]
+}
+
+/// The same ball on a coarser mesh (hc 0.04) on one rank: PETSc's PtAP
+/// that makes the pair's matrix grew its own product once (1 malloc), and
+/// the run ended as an internal error ("preallocation is wrong", exit 1);
+/// 2 and 3 ranks ran. Now it converges on 1, 2 and 3 ranks, which agree.
+#[test]
+fn ball_on_a_coarse_block_runs_on_one_rank() {
+    let dir = scratch("pairs-ball-coarse");
+    let out = dir.join("ball_block3d.msh");
+    gmsh(
+        "-3",
+        "tests/pairs/ball_block3d.geo",
+        &out,
+        &[("hc", "0.04")],
+    );
+    let args = ball_args(out.to_str().unwrap(), "1e-9");
+    let (run, report, rows) = solve_rows("ball-coarse-1", 1, &args);
+    assert!(report.converged, "{}\n{}", run.stdout, run.stderr);
+    for ranks in [2, 3] {
+        let (run, report, other) = solve_rows("ball-coarse-n", ranks, &args);
+        assert!(report.converged, "{}\n{}", run.stdout, run.stderr);
+        let gap = max_pressure_gap(&rows, &other);
+        assert!(gap < 1e-8, "1 and {ranks} ranks differ by {gap:.3e}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
