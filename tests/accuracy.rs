@@ -716,13 +716,7 @@ fn tilted_normal_reaches_a_tight_tolerance() {
     let name = "incline2d_coulomb";
     let reference = reference(name);
     for n in [1, 2] {
-        let s = run(name, n, &["-ubr_lambda_rtol", "1e-10"]);
-        assert!(
-            s.converged(),
-            "{name} -n {n}: {}\n{}",
-            s.summary(),
-            s.stdout
-        );
+        let s = tight_run(name, n, &reference.rows);
         let lmax = s.rows.iter().map(|r| r.lambda_n.abs()).fold(0.0, f64::max);
         for r in &s.rows {
             let unit = (common::norm(&r.normal) - 1.0).abs();
@@ -733,13 +727,26 @@ fn tilted_normal_reaches_a_tight_tolerance() {
                 r.node
             );
         }
-        let (en, et) = errors(&s.rows, &reference.rows);
-        assert!(
-            en <= 1e-8 && et <= 1e-8,
-            "{name} -n {n}: err_n {en:.2e}, err_t {et:.2e}; {}",
-            s.summary()
-        );
     }
+}
+
+/// `name` on `n` ranks at -ubr_lambda_rtol 1e-10: converged, and within
+/// 1e-8 of the reference rows `reference`.
+fn tight_run(name: &'static str, n: usize, reference: &[Row]) -> Solution {
+    let s = run(name, n, &["-ubr_lambda_rtol", "1e-10"]);
+    assert!(
+        s.converged(),
+        "{name} -n {n}: {}\n{}",
+        s.summary(),
+        s.stdout
+    );
+    let (en, et) = errors(&s.rows, reference);
+    assert!(
+        en <= 1e-8 && et <= 1e-8,
+        "{name} -n {n}: err_n {en:.2e}, err_t {et:.2e}; {}",
+        s.summary()
+    );
+    s
 }
 
 /// CF-FP's Tresca solves aim ten times tighter than the outer target: at
@@ -755,18 +762,6 @@ fn tresca_solves_at_round_off_keep_cf_fp_going() {
     let name = "stamp2d_gravity_coulomb";
     let reference = reference(name);
     for n in [1, 2, 3] {
-        let s = run(name, n, &["-ubr_lambda_rtol", "1e-10"]);
-        assert!(
-            s.converged(),
-            "{name} -n {n}: {}\n{}",
-            s.summary(),
-            s.stdout
-        );
-        let (en, et) = errors(&s.rows, &reference.rows);
-        assert!(
-            en <= 1e-8 && et <= 1e-8,
-            "{name} -n {n}: err_n {en:.2e}, err_t {et:.2e}; {}",
-            s.summary()
-        );
+        tight_run(name, n, &reference.rows);
     }
 }

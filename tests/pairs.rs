@@ -574,13 +574,7 @@ fn patch_test_3d_on_non_matching_interfaces() {
 #[test]
 fn ball_on_a_block_follows_hertz() {
     let dir = scratch("pairs-ball");
-    let out = dir.join("ball_block3d.msh");
-    gmsh(
-        "-3",
-        "tests/pairs/ball_block3d.geo",
-        &out,
-        &[("hc", "0.02")],
-    );
+    let out = ball_mesh(&dir, "0.02");
     let msh = out.to_str().unwrap();
     let args = ball_args(msh, "1e-8");
     let (run, report, rows) = solve_rows("ball-1", 1, &args);
@@ -616,6 +610,14 @@ fn ball_on_a_block_follows_hertz() {
         run.stdout
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The mesh of `tests/pairs/ball_block3d.geo` at size `hc` near the
+/// contact, in `dir`.
+fn ball_mesh(dir: &Path, hc: &str) -> std::path::PathBuf {
+    let out = dir.join("ball_block3d.msh");
+    gmsh("-3", "tests/pairs/ball_block3d.geo", &out, &[("hc", hc)]);
+    out
 }
 
 /// The ball on the block of `ball_on_a_block_follows_hertz`, on mesh `msh`,
@@ -654,13 +656,7 @@ fn ball_args<'a>(msh: &'a str, tol: &'a str) -> Vec<&'a str> {
 #[test]
 fn ball_on_a_coarse_block_runs_on_one_rank() {
     let dir = scratch("pairs-ball-coarse");
-    let out = dir.join("ball_block3d.msh");
-    gmsh(
-        "-3",
-        "tests/pairs/ball_block3d.geo",
-        &out,
-        &[("hc", "0.04")],
-    );
+    let out = ball_mesh(&dir, "0.04");
     let args = ball_args(out.to_str().unwrap(), "1e-9");
     let (run, report, rows) = solve_rows("ball-coarse-1", 1, &args);
     assert!(report.converged, "{}\n{}", run.stdout, run.stderr);
@@ -681,13 +677,7 @@ fn ball_on_a_coarse_block_runs_on_one_rank() {
 #[test]
 fn pair_runs_are_reproducible() {
     let dir = scratch("pairs-repro");
-    let out = dir.join("ball_block3d.msh");
-    gmsh(
-        "-3",
-        "tests/pairs/ball_block3d.geo",
-        &out,
-        &[("hc", "0.04")],
-    );
+    let out = ball_mesh(&dir, "0.04");
     let mut args = ball_args(out.to_str().unwrap(), "1e-3");
     let top = args.iter().position(|&a| a == "0,0,-1.574").unwrap();
     args[top] = "0.3,0,-1.574";

@@ -211,8 +211,7 @@ impl Problem {
         // The nodal graph, once for the assembly and METIS' ordering.
         let adjacency = fem::node_adjacency(mesh);
         let entries = d * d * adjacency.0[mesh.owned_count];
-        let direct = settings.linear.default_direct() && settings.ubr.mumps_direct;
-        crate::linalg::memfit::assembly_fits(world, entries, direct)?;
+        crate::linalg::memfit::assembly_fits(world, entries, settings.linear.mumps_direct())?;
         let el = fem::assemble_stiffness(comm, mesh, &adjacency, settings, &extra)?;
         let load_local = fem::loads::external_load(mesh, settings, &el.lumped_mass)?;
         let nown = mesh.owned_count * d;

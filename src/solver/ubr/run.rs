@@ -751,8 +751,8 @@ impl<'a, C: Communicator> Run<'a, C> {
                 // on an axis-aligned normal.
                 let n = cs.n(i);
                 let zn: f64 = z.iter().zip(n).map(|(a, b)| a * b).sum();
-                for (zc, nc) in z.iter_mut().zip(n) {
-                    *zc -= zn * nc;
+                for (zc, nk) in z.iter_mut().zip(n) {
+                    *zc -= zn * nk;
                 }
                 let z = &*z;
                 match st.slip_origin.get(t.clone()) {
