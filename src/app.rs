@@ -145,6 +145,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let root = world.rank() == 0;
         progress::start(root);
         let settings = Settings::from_options()?;
+        crate::linalg::memfit::watch(world)?;
         if root {
             for note in &settings.notes {
                 eprintln!("{note}");

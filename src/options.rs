@@ -631,6 +631,13 @@ fn ubr_settings() -> Result<UbrSettings, Error> {
     if let Some(v) = UBR_MEMORY_MB.real()? {
         positive(UBR_MEMORY_MB.name, v)?;
     }
+    if let Some(v) = UBR_MEMORY_RESERVE.real()? {
+        if !(v >= 0.0 && v.is_finite()) {
+            return bad(format!(
+                "option -ubr_memory_reserve: {v} is not a size in MB (0 or more; 0 turns the watch off)"
+            ));
+        }
+    }
     let inner_rtol_factor = UBR_INNER_RTOL_FACTOR.get()?;
     if !(inner_rtol_factor > 0.0 && inner_rtol_factor < 1.0) {
         return bad(format!(

@@ -69,18 +69,22 @@ fn emit(t: f64, line: &str) {
 
 /// The start of a phase: printed at once when the run is already long or
 /// the phase is `expected_long`, else by the watcher if it turns long.
+/// Every rank keeps its phase (for [`current`]); rank 0 prints it.
 pub fn phase(expected_long: bool, line: impl FnOnce() -> String) {
-    if !root() {
-        return;
-    }
     let (line, t) = (line(), elapsed());
-    let now = expected_long || t > LONG_RUN;
+    let now = root() && (expected_long || t > LONG_RUN);
     with_state(|s| {
         if now {
             emit(t, &line);
         }
         s.phase = Some((line, t, now));
     });
+}
+
+/// The phase this rank is in ("assembling and factorizing (N unknowns)",
+/// "iterating", ...), if one has started.
+pub fn current() -> Option<String> {
+    with_state(|s| s.phase.as_ref().map(|p| p.0.clone())).flatten()
 }
 
 /// The end of the phases (before the summary): nothing more to announce.

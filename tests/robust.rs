@@ -184,6 +184,101 @@ fn runs_larger_than_the_machine_are_refused() {
     run.refused("-ubr_memory_mb 0", 2, &["-ubr_memory_mb", "not positive"]);
 }
 
+/// MemAvailable of this machine in MB.
+fn available_mb() -> u64 {
+    let text = std::fs::read_to_string("/proc/meminfo").expect("/proc/meminfo");
+    let kb: u64 = text
+        .lines()
+        .find_map(|l| l.strip_prefix("MemAvailable:"))
+        .and_then(|v| v.split_whitespace().next()?.parse().ok())
+        .expect("MemAvailable");
+    kb / 1024
+}
+
+#[test]
+fn runs_that_fill_the_machine_end_with_their_phase() {
+    // Between the checks before the assembly and the factorization the need
+    // is not predicted: a run that leaves less free memory than the reserve
+    // ends with exit 4 naming the phase, not by the system's signal 9.
+    // Here a reserve 600 MB under what is free now, and a run that needs
+    // GBs (the 262,701-node block, MUMPS' factorization).
+    let reserve = (available_mb() - 600).to_string();
+    let (over, dir) = run(
+        "reserve-run",
+        2,
+        None,
+        300,
+        &[
+            "-options_file",
+            "options/block3d",
+            "-mesh_generate",
+            "block3d",
+            "-mesh_h",
+            "0.02",
+            "-ubr_memory_reserve",
+            &reserve,
+        ],
+    );
+    over.refused(
+        "a run over the reserve",
+        4,
+        &[
+            "error: out of memory: the free memory of this machine fell to",
+            &format!("below the {reserve} MB a run keeps free (-ubr_memory_reserve)"),
+            "while assembling and factorizing (788103 unknowns), rank 0 holding",
+            "use more machines or a coarser mesh",
+        ],
+    );
+    assert!(!dir.join("contact.csv").exists(), "nothing written");
+    let _ = std::fs::remove_dir_all(&dir);
+    // A machine with less free than the reserve at the start: refused at
+    // once, on every rank count.
+    for ranks in [1, 2] {
+        let (start, dir) = run(
+            "reserve-start",
+            ranks,
+            None,
+            60,
+            &[
+                "-options_file",
+                "options/hertz",
+                "-ubr_memory_reserve",
+                "1e9",
+            ],
+        );
+        start.refused(
+            "a reserve over the machine",
+            4,
+            &[
+                "MB free (free memory and swap), less than the 1000000000 MB a run keeps free (-ubr_memory_reserve)",
+            ],
+        );
+        assert!(start.seconds < 20.0, "took {:.1} s", start.seconds);
+        assert!(!dir.join("contact.csv").exists(), "nothing written");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    // 0 turns the watch off; a negative size is bad input.
+    let run = mpirun(
+        1,
+        &["-options_file", "options/hertz", "-ubr_memory_reserve", "0"],
+    );
+    assert_eq!(run.status, Some(0), "{}", run.stderr);
+    let run = mpirun(
+        2,
+        &[
+            "-options_file",
+            "options/hertz",
+            "-ubr_memory_reserve",
+            "-5",
+        ],
+    );
+    run.refused(
+        "-ubr_memory_reserve -5",
+        2,
+        &["-ubr_memory_reserve", "0 or more"],
+    );
+}
+
 #[test]
 fn mumps_out_of_memory_writes_the_report() {
     // MUMPS' own memory cap (ICNTL(23), MB per rank) far below what the

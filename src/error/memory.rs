@@ -167,6 +167,17 @@ fn abort(live: bool) -> ! {
     unsafe { _exit(EXIT_OUT_OF_MEMORY) }
 }
 
+/// Ends every rank with exit status 4 after `line` (one line, newline
+/// included) on stderr: for the watch of the machine's free memory
+/// (`linalg::memfit::watch`), which runs beside the work and cannot return
+/// an error to it.
+pub fn end_out_of_memory(line: &str) -> ! {
+    use std::io::Write as _;
+    let (live, _) = mpi_rank();
+    let _ = std::io::stderr().write_all(line.as_bytes());
+    abort(live)
+}
+
 /// The end of a run that ran out of memory (see [`OutOfMemory`]).
 #[cold]
 fn out_of_memory(bytes: usize) -> ! {

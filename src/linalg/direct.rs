@@ -101,32 +101,6 @@ pub struct Direct {
     failure: Option<Error>,
 }
 
-/// Rows, columns (1-based) and values of matrix entries.
-type Triplets = (Vec<i32>, Vec<i32>, Vec<f64>);
-
-/// This rank's lower-triangle entries of `a` (1-based) that MUMPS gets
-/// (those [`super::factorized_entry`] keeps), and for every lower-triangle
-/// entry in row order whether it is one of them (for [`Direct::refactorize`]).
-fn lower_triplets(a: &Matrix, d: usize) -> Result<(Triplets, Vec<bool>), Error> {
-    let (mut irn, mut jcn, mut val) = (Vec::new(), Vec::new(), Vec::new());
-    let mut kept = Vec::new();
-    a.for_each_owned_row(|row, cols, vals| {
-        for (&c, &v) in cols.iter().zip(vals) {
-            let c = c as usize;
-            if c <= row {
-                let keep = super::factorized_entry(row, c, v, d);
-                kept.push(keep);
-                if keep {
-                    irn.push(row as i32 + 1);
-                    jcn.push(c as i32 + 1);
-                    val.push(v);
-                }
-            }
-        }
-    })?;
-    Ok(((irn, jcn, val), kept))
-}
-
 /// PERM_IN on the host (empty elsewhere): METIS nested dissection of the
 /// nodal graph, each node's `d` dofs in a row, except the Schur unknowns
 /// (components `comps` of the nodes `schur_nodes`, in that order), last.
@@ -404,7 +378,7 @@ impl Direct {
         let d = mesh.dim;
         let n = mesh.global_nodes * d;
         let ev_init = LogEvent::register("MUMPSInit")?.begin();
-        let ((irn, jcn, val), kept) = lower_triplets(a, d)?;
+        let ((irn, jcn, val), kept) = super::lower_triplets(a, d)?;
         let mut mumps = Mumps::new(crate::petsc::comm_world(), world.rank(), true)?;
         drop(ev_init);
         mumps.set_matrix(n, irn, jcn, val);
