@@ -445,8 +445,11 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                 "option -contact_surface is required (a contact problem needs a candidate surface; -contact_pair SLAVE,MASTER for two elastic bodies)",
             );
         };
+        let s = &self.settings;
+        let dirichlet = crate::fem::dirichlet_dofs(local, &s.dirichlet)?;
         let mut cs = ContactSet::build(local, contact)?;
         cs.add_pairs(self.world, local, contact)?;
+        cs.align_pair_normals(local, &dirichlet);
         let pairs = contact.pairs.clone();
         cs.settle(self.world)?;
         if allreduce_count(self.world, cs.len()) == 0 && contact.surfaces.is_empty() {
@@ -458,8 +461,6 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                 contact.surface_names()
             ));
         }
-        let s = &self.settings;
-        let dirichlet = crate::fem::dirichlet_dofs(local, &s.dirichlet)?;
         let friction = s.friction != Friction::None;
         let restraint = wellposed::check(self.world, local, &dirichlet, &cs, friction, &pairs)?;
         for w in checks::setup_warnings(self.world, local, s, &dirichlet, &cs)? {

@@ -58,6 +58,11 @@ pub struct ContactSet {
     pub image: Vec<f64>,
 }
 
+/// The largest part of a pair's slave normal along prescribed displacement
+/// components that [`ContactSet::align_pair_normals`] takes for a tilt (an
+/// averaged normal on a symmetry plane is tilted by about h / 2R).
+pub const TILT: f64 = 0.5;
+
 impl ContactSet {
     pub fn len(&self) -> usize {
         self.node.len()
@@ -75,6 +80,43 @@ impl ContactSet {
     /// The one normal of every candidate, when they share it.
     pub fn common_normal(&self) -> Option<&[f64]> {
         self.uniform.then_some(&self.direction[..])
+    }
+
+    /// A pair's slave normals in the directions the node may move: at a
+    /// slave node with prescribed displacement components (`dirichlet`,
+    /// owned dofs), the normal's part along them is removed when it is a
+    /// tilt (at most [`TILT`] in norm) and the gap measured along the new
+    /// normal. A slave node on a symmetry plane (a quarter model, `ux = 0`
+    /// on its cut) has a normal averaged from the facets on one side of the
+    /// plane, tilted out of it by about h / 2R; its tangential relative
+    /// displacement then took a part of the normal approach that no
+    /// tangential force could change, and Coulomb friction drifted there
+    /// towards slip (the ball on a block of `tests/pairs/ball_block3d.geo`
+    /// at hc 0.04, nu_f 0.8: CF-FP failed, its Tresca solve stalled with
+    /// two nodes' tangential multipliers moving by r u_t each iteration;
+    /// and the set-up warned of a Dirichlet condition along n there). A
+    /// larger part is a Dirichlet condition on the contact direction
+    /// itself, kept as given (the set-up warns of it).
+    pub fn align_pair_normals(&mut self, mesh: &LocalMesh, dirichlet: &[(usize, f64)]) {
+        let d = self.dim;
+        let fixed: std::collections::HashSet<usize> = dirichlet.iter().map(|&(k, _)| k).collect();
+        for i in 0..self.len() {
+            if self.pair[i] == usize::MAX {
+                continue;
+            }
+            let v = self.node[i];
+            let comps: Vec<usize> = (0..d).filter(|&c| fixed.contains(&(v * d + c))).collect();
+            let n = &mut self.normal[i * d..(i + 1) * d];
+            let along: f64 = comps.iter().map(|&c| n[c] * n[c]).sum();
+            if comps.is_empty() || along == 0.0 || along > TILT * TILT {
+                continue;
+            }
+            comps.iter().for_each(|&c| n[c] = 0.0);
+            let norm = n.iter().map(|x| x * x).sum::<f64>().sqrt();
+            n.iter_mut().for_each(|x| *x /= norm);
+            let x = &mesh.coords[v * d..(v + 1) * d];
+            self.g[i] = (0..d).map(|c| n[c] * (self.image[i * d + c] - x[c])).sum();
+        }
     }
 
     /// The checks and the choice that need every rank, after [`Self::build`]:
