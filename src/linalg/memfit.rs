@@ -22,28 +22,51 @@ use mpi::topology::Communicator;
 
 /// MB free on this machine for new allocations: MemAvailable + SwapFree
 /// (`/proc/meminfo`), at most the room left under the memory cgroup's
-/// limit (v2 `memory.max`, v1 `memory.limit_in_bytes`). `None` where
-/// `/proc/meminfo` cannot be read.
+/// limit (v2 `memory.max`, v1 `memory.limit_in_bytes`), the group's
+/// inactive file pages counted as room (its usage counts the page cache,
+/// which the kernel reclaims before it kills: a container that has read
+/// large files would otherwise look full). `None` where `/proc/meminfo`
+/// cannot be read.
 pub fn available_mb() -> Option<f64> {
     let meminfo = std::fs::read_to_string("/proc/meminfo").ok()?;
     let free =
         meminfo_kb(&meminfo, "MemAvailable")? + meminfo_kb(&meminfo, "SwapFree").unwrap_or(0.0);
     let mut mb = free / 1024.0;
-    for (limit, usage) in [
-        ("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
+    for (limit, usage, stat, cache) in [
+        (
+            "/sys/fs/cgroup/memory.max",
+            "/sys/fs/cgroup/memory.current",
+            "/sys/fs/cgroup/memory.stat",
+            "inactive_file",
+        ),
         (
             "/sys/fs/cgroup/memory/memory.limit_in_bytes",
             "/sys/fs/cgroup/memory/memory.usage_in_bytes",
+            "/sys/fs/cgroup/memory/memory.stat",
+            "total_inactive_file",
         ),
     ] {
         if let (Some(l), Some(u)) = (read_bytes(limit), read_bytes(usage)) {
             // An unlimited v1 group reads as about 2^63.
             if l < 1e18 {
-                mb = mb.min((l - u).max(0.0) / (1024.0 * 1024.0));
+                let cached = std::fs::read_to_string(stat)
+                    .ok()
+                    .and_then(|t| stat_bytes(&t, cache))
+                    .unwrap_or(0.0)
+                    .min(u);
+                mb = mb.min((l - u + cached).max(0.0) / (1024.0 * 1024.0));
             }
         }
     }
     Some(mb)
+}
+
+/// The value of `key` in a cgroup's `memory.stat` text ("key bytes" lines).
+fn stat_bytes(text: &str, key: &str) -> Option<f64> {
+    text.lines().find_map(|l| {
+        let (k, v) = l.split_once(' ')?;
+        (k == key).then(|| v.trim().parse().ok()).flatten()
+    })
 }
 
 /// MB of this machine: MemTotal + SwapTotal, at most its memory cgroup's
@@ -261,6 +284,10 @@ mod tests {
         assert_eq!(meminfo_kb(text, "SwapFree"), Some(0.0));
         assert_eq!(meminfo_kb(text, "Mem"), None);
         assert_eq!(meminfo_kb(text, "Cached"), None);
+        let stat = "anon 100\nfile 5000\nactive_file 1000\ninactive_file 4000\n";
+        assert_eq!(stat_bytes(stat, "inactive_file"), Some(4000.0));
+        assert_eq!(stat_bytes(stat, "file"), Some(5000.0));
+        assert_eq!(stat_bytes(stat, "total_inactive_file"), None);
         let mb = available_mb().expect("/proc/meminfo on Linux");
         assert!(mb > 0.0, "{mb}");
     }
