@@ -116,8 +116,9 @@ fn resident_mb() -> f64 {
 /// [`fits`]) refuse what is sure not to fit; between them the need is not
 /// predicted: the generated block at `-mesh_h 0.0072` (16.4M unknowns) on 2
 /// ranks of this 24 GB machine passed the first, filled the machine in
-/// MUMPS' analysis and was killed after 110 s (12.2 GB on a rank). A GAMG
-/// set-up takes about six times its matrix. A machine already below the
+/// MUMPS' analysis and was killed after 110 s (12.2 GB on a rank). A CG +
+/// GAMG run peaks at about six times its matrix (70 bytes per entry: 22.5
+/// GB for the 2.4M-node block on 2 ranks). A machine already below the
 /// reserve at the start is refused at once (`Err`, on every rank).
 pub fn watch<C: Communicator>(world: &C) -> Result<(), Error> {
     let given = UBR_MEMORY_RESERVE.real()?;
