@@ -121,30 +121,33 @@ fn resident_mb() -> f64 {
 /// GB for the 2.4M-node block on 2 ranks). A machine already below the
 /// reserve at the start is refused at once (`Err`, on every rank).
 pub fn watch<C: Communicator>(world: &C) -> Result<(), Error> {
+    // Every collective first: what each rank then decides is its own (a
+    // machine whose memory cannot be read is not watched).
+    // One line per machine: its first rank's (the others end a moment
+    // later, if MPI_Abort has not ended them).
+    let leader = world.split_shared(world.rank()).rank() == 0;
     let given = UBR_MEMORY_RESERVE.real()?;
-    let Some(reserve) = given.or_else(default_reserve_mb).filter(|&r| r > 0.0) else {
-        return Ok(());
-    };
+    let reserve = given.or_else(default_reserve_mb).filter(|&r| r > 0.0);
     let how = if given.is_some() {
         "-ubr_memory_reserve"
     } else {
         "3% of its memory; -ubr_memory_reserve MB sets it, 0 turns this watch off"
     };
     let avail = available_mb();
-    let low = avail.filter(|&a| a < reserve);
-    let [least] = allreduce_max_n(world, [low.map_or(f64::NEG_INFINITY, |a| -a)]);
+    let low = match (reserve, avail) {
+        (Some(r), Some(a)) if a < r => [-a, r],
+        _ => [f64::NEG_INFINITY, 0.0],
+    };
+    let [least, its_reserve] = allreduce_max_n(world, low);
     if least > f64::NEG_INFINITY {
         return Err(Error::OutOfMemory(format!(
-            "a machine of the run has {:.0} MB free (free memory and swap), less than the {reserve:.0} MB a run keeps free ({how})",
+            "a machine of the run has {:.0} MB free (free memory and swap), less than the {its_reserve:.0} MB a run keeps free ({how})",
             -least
         )));
     }
-    if avail.is_none() {
+    let (Some(reserve), Some(_)) = (reserve, avail) else {
         return Ok(());
-    }
-    // One line per machine: its first rank's (the others end a moment
-    // later, if MPI_Abort has not ended them).
-    let leader = world.split_shared(world.rank()).rank() == 0;
+    };
     let rank = world.rank();
     // A thread that cannot start (a memory limit with no room for its
     // stack) leaves the run unwatched.
