@@ -449,7 +449,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let dirichlet = crate::fem::dirichlet_dofs(local, &s.dirichlet)?;
         let mut cs = ContactSet::build(local, contact)?;
         cs.add_pairs(self.world, local, contact)?;
-        cs.align_pair_normals(local, &dirichlet);
+        cs.align_normals(local, &dirichlet, contact);
         let pairs = contact.pairs.clone();
         cs.settle(self.world)?;
         if allreduce_count(self.world, cs.len()) == 0 && contact.surfaces.is_empty() {

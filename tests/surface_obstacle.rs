@@ -248,3 +248,77 @@ fn bad_surfaces_are_refused() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A quarter block pressed on a triangulated sphere with Coulomb friction
+/// nu_f 0.3: the closest normals at the nodes on the symmetry planes lie in
+/// them (a facet that does not respect the plane tilted them by up to
+/// 0.028; the Tresca solve of CF-FP then stalled, exit 3 after 582
+/// iterations; now 42).
+#[test]
+fn symmetry_planes_hold_faceted_normals() {
+    let dir = scratch("faceted-symmetry");
+    let (block, sphere) = (dir.join("block.msh"), dir.join("sphere.msh"));
+    gmsh("-3", "tests/obstacles/quarter_block.geo", &block, &[]);
+    gmsh(
+        "-2",
+        "tests/obstacles/sphere.geo",
+        &sphere,
+        &[("h", "0.05")],
+    );
+    let args = [
+        "-mesh",
+        block.to_str().unwrap(),
+        "-E",
+        "1000",
+        "-nu",
+        "0.3",
+        "-contact_surface",
+        "bottom",
+        "-obstacle",
+        "mesh",
+        "-obstacle_mesh",
+        sphere.to_str().unwrap(),
+        "-dirichlet_top",
+        "uz=-0.01",
+        "-dirichlet_x0",
+        "ux=0",
+        "-dirichlet_y0",
+        "uy=0",
+        "-friction",
+        "coulomb",
+        "-friction_coefficient",
+        "0.3",
+    ];
+    let mut all = Vec::new();
+    for ranks in [1, 2] {
+        let (run, report, rows) = solve_rows("faceted-symmetry", ranks, &args);
+        assert!(report.converged, "{}", run.stdout);
+        assert!(
+            report.iterations < 200.0,
+            "{} iterations",
+            report.iterations
+        );
+        let mut on_planes = 0;
+        for r in rows.iter().filter(|r| r.lambda_n > 0.0) {
+            if r.x[0].abs() < 1e-12 {
+                on_planes += 1;
+                assert_eq!(r.normal[0], 0.0, "node {} on x = 0", r.node);
+            }
+            if r.x[1].abs() < 1e-12 {
+                on_planes += 1;
+                assert_eq!(r.normal[1], 0.0, "node {} on y = 0", r.node);
+            }
+        }
+        assert!(on_planes >= 4, "{on_planes} nodes in contact on the planes");
+        all.push(rows);
+    }
+    let peak = all[0].iter().map(|r| r.lambda_n).fold(0.0, f64::max);
+    for (a, b) in all[0].iter().zip(&all[1]) {
+        assert!(
+            (a.lambda_n - b.lambda_n).abs() < 1e-2 * peak,
+            "node {}",
+            a.node
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -58,8 +58,8 @@ pub struct ContactSet {
     pub image: Vec<f64>,
 }
 
-/// The largest part of a pair's slave normal along prescribed displacement
-/// components that [`ContactSet::align_pair_normals`] takes for a tilt (an
+/// The largest part of a facet-made normal along prescribed displacement
+/// components that [`ContactSet::align_normals`] takes for a tilt (an
 /// averaged normal on a symmetry plane is tilted by about h / 2R).
 pub const TILT: f64 = 0.5;
 
@@ -82,26 +82,40 @@ impl ContactSet {
         self.uniform.then_some(&self.direction[..])
     }
 
-    /// A pair's slave normals in the directions the node may move: at a
-    /// slave node with prescribed displacement components (`dirichlet`,
-    /// owned dofs), the normal's part along them is removed when it is a
-    /// tilt (at most [`TILT`] in norm) and the gap measured along the new
-    /// normal. A slave node on a symmetry plane (a quarter model, `ux = 0`
-    /// on its cut) has a normal averaged from the facets on one side of the
-    /// plane, tilted out of it by about h / 2R; its tangential relative
-    /// displacement then took a part of the normal approach that no
-    /// tangential force could change, and Coulomb friction drifted there
-    /// towards slip (the ball on a block of `tests/pairs/ball_block3d.geo`
-    /// at hc 0.04, nu_f 0.8: CF-FP failed, its Tresca solve stalled with
-    /// two nodes' tangential multipliers moving by r u_t each iteration;
-    /// and the set-up warned of a Dirichlet condition along n there). A
-    /// larger part is a Dirichlet condition on the contact direction
-    /// itself, kept as given (the set-up warns of it).
-    pub fn align_pair_normals(&mut self, mesh: &LocalMesh, dirichlet: &[(usize, f64)]) {
+    /// Normals made of facets in the directions the node may move: a pair's
+    /// slave normal (averaged from the slave facets) and a closest normal
+    /// on an obstacle given as a mesh (`-obstacle mesh`, from its facets).
+    /// At such a candidate with prescribed displacement components
+    /// (`dirichlet`, owned dofs), the normal's part along them is removed
+    /// when it is a tilt (at most [`TILT`] in norm), and the gap measured
+    /// along the new normal. A node on a symmetry plane (a quarter model,
+    /// `ux = 0` on its cut) has a normal averaged from the facets on one
+    /// side of the plane, or the normal of an obstacle facet that does not
+    /// respect the plane, tilted out of it by about h / 2R; its tangential
+    /// relative displacement then took a part of the normal approach that
+    /// no tangential force could change, and Coulomb friction drifted
+    /// there towards slip (the ball on a block of
+    /// `tests/pairs/ball_block3d.geo` at hc 0.04, nu_f 0.8: CF-FP failed,
+    /// its Tresca solve stalled with two nodes' tangential multipliers
+    /// moving by r u_t each iteration; a quarter block on a faceted rigid
+    /// sphere, nu_f 0.3, the same; and the set-up warned of a Dirichlet
+    /// condition along n there). A larger part is a Dirichlet condition on
+    /// the contact direction itself, kept as given (the set-up warns of
+    /// it); fixed directions and analytic obstacles' normals are exact.
+    pub fn align_normals(
+        &mut self,
+        mesh: &LocalMesh,
+        dirichlet: &[(usize, f64)],
+        settings: &ContactSettings,
+    ) {
         let d = self.dim;
         let fixed: std::collections::HashSet<usize> = dirichlet.iter().map(|&(k, _)| k).collect();
         for i in 0..self.len() {
-            if self.pair[i] == usize::MAX {
+            let pair = self.pair[i] != usize::MAX;
+            let faceted = settings.obstacles.get(self.obstacle[i]).is_some_and(|o| {
+                matches!(o.obstacle, Obstacle::Mesh { .. }) && o.normal == NormalMode::Closest
+            });
+            if !pair && !faceted {
                 continue;
             }
             let v = self.node[i];
@@ -111,11 +125,17 @@ impl ContactSet {
             if comps.is_empty() || along == 0.0 || along > TILT * TILT {
                 continue;
             }
+            let old = n.to_vec();
             comps.iter().for_each(|&c| n[c] = 0.0);
             let norm = n.iter().map(|x| x * x).sum::<f64>().sqrt();
             n.iter_mut().for_each(|x| *x /= norm);
-            let x = &mesh.coords[v * d..(v + 1) * d];
-            self.g[i] = (0..d).map(|c| n[c] * (self.image[i * d + c] - x[c])).sum();
+            self.g[i] = if pair {
+                let x = &mesh.coords[v * d..(v + 1) * d];
+                (0..d).map(|c| n[c] * (self.image[i * d + c] - x[c])).sum()
+            } else {
+                // The closest point lies at g along the old normal.
+                self.g[i] * (0..d).map(|c| n[c] * old[c]).sum::<f64>()
+            };
         }
     }
 
