@@ -571,6 +571,23 @@ pub fn field_gap(a: &[Row], b: &[Row], field: impl Fn(&Row) -> f64) -> f64 {
         / if peak > 0.0 { peak } else { 1.0 }
 }
 
+/// Asserts that the normals of the rows on the symmetry planes x = 0 and
+/// y = 0 lie in them, and returns how many rows lie on each.
+pub fn normals_in_symmetry_planes<'a>(rows: impl Iterator<Item = &'a Row>) -> (usize, usize) {
+    let (mut on_x0, mut on_y0) = (0, 0);
+    for r in rows {
+        if r.x[0].abs() < 1e-12 {
+            on_x0 += 1;
+            assert_eq!(r.normal[0], 0.0, "node {} on x = 0", r.node);
+        }
+        if r.x[1].abs() < 1e-12 {
+            on_y0 += 1;
+            assert_eq!(r.normal[1], 0.0, "node {} on y = 0", r.node);
+        }
+    }
+    (on_x0, on_y0)
+}
+
 /// max |lambda_n(a) - lambda_n(b)| / max |lambda_n(b)|, rows matched by node.
 pub fn max_pressure_gap(a: &[Row], b: &[Row]) -> f64 {
     field_gap(a, b, |r| r.lambda_n)
