@@ -20,6 +20,23 @@ use crate::options::declared::{UBR_MEMORY_MB, UBR_MEMORY_RESERVE};
 use crate::petsc::options;
 use mpi::topology::Communicator;
 
+/// The memory cgroup's files, v2 then v1: its limit, its usage, its
+/// statistics and their key for the inactive file pages.
+const CGROUPS: [(&str, &str, &str, &str); 2] = [
+    (
+        "/sys/fs/cgroup/memory.max",
+        "/sys/fs/cgroup/memory.current",
+        "/sys/fs/cgroup/memory.stat",
+        "inactive_file",
+    ),
+    (
+        "/sys/fs/cgroup/memory/memory.limit_in_bytes",
+        "/sys/fs/cgroup/memory/memory.usage_in_bytes",
+        "/sys/fs/cgroup/memory/memory.stat",
+        "total_inactive_file",
+    ),
+];
+
 /// MB free on this machine for new allocations: MemAvailable + SwapFree
 /// (`/proc/meminfo`), at most the room left under the memory cgroup's
 /// limit (v2 `memory.max`, v1 `memory.limit_in_bytes`), the group's
@@ -32,20 +49,7 @@ pub fn available_mb() -> Option<f64> {
     let free =
         meminfo_kb(&meminfo, "MemAvailable")? + meminfo_kb(&meminfo, "SwapFree").unwrap_or(0.0);
     let mut mb = free / 1024.0;
-    for (limit, usage, stat, cache) in [
-        (
-            "/sys/fs/cgroup/memory.max",
-            "/sys/fs/cgroup/memory.current",
-            "/sys/fs/cgroup/memory.stat",
-            "inactive_file",
-        ),
-        (
-            "/sys/fs/cgroup/memory/memory.limit_in_bytes",
-            "/sys/fs/cgroup/memory/memory.usage_in_bytes",
-            "/sys/fs/cgroup/memory/memory.stat",
-            "total_inactive_file",
-        ),
-    ] {
+    for &(limit, usage, stat, cache) in &CGROUPS {
         if let (Some(l), Some(u)) = (read_bytes(limit), read_bytes(usage)) {
             // An unlimited v1 group reads as about 2^63.
             if l < 1e18 {
@@ -76,10 +80,7 @@ fn total_mb() -> Option<f64> {
     let total =
         meminfo_kb(&meminfo, "MemTotal")? + meminfo_kb(&meminfo, "SwapTotal").unwrap_or(0.0);
     let mut mb = total / 1024.0;
-    for limit in [
-        "/sys/fs/cgroup/memory.max",
-        "/sys/fs/cgroup/memory/memory.limit_in_bytes",
-    ] {
+    for &(limit, ..) in &CGROUPS {
         if let Some(l) = read_bytes(limit).filter(|&l| l < 1e18) {
             mb = mb.min(l / (1024.0 * 1024.0));
         }
