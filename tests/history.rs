@@ -472,12 +472,11 @@ fn mindlin_3d_stick_zone() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// A quasi-static Coulomb history (press, pull sideways, release the
-/// pull) on 1, 2 and 3 ranks at a tight tolerance: the final stresses agree
-/// to 1e-8 of the peak (measured 1.1e-13).
-#[test]
-fn quasi_static_coulomb_ranks_agree() {
-    let (dir, msh) = gmsh_2d("history-ranks", "tests/scenes/crowned2d_coulomb.geo");
+/// The crowned block's quasi-static Coulomb history (press, pull
+/// sideways, release the pull) at a tight tolerance: its scratch dir and
+/// arguments.
+fn coulomb_history(name: &str) -> (std::path::PathBuf, Vec<String>) {
+    let (dir, msh) = gmsh_2d(name, "tests/scenes/crowned2d_coulomb.geo");
     let table = dir.join("t.csv");
     std::fs::write(
         &table,
@@ -512,6 +511,15 @@ fn quasi_static_coulomb_ranks_agree() {
         "-ubr_lambda_rtol",
         "1e-10",
     ];
+    (dir, args.iter().map(|a| a.to_string()).collect())
+}
+
+/// The history on 1, 2 and 3 ranks: the final stresses agree to 1e-8 of
+/// the peak (measured 1.1e-13).
+#[test]
+fn quasi_static_coulomb_ranks_agree() {
+    let (dir, args) = coulomb_history("history-ranks");
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let runs: Vec<Vec<Row>> = (1..=3)
         .map(|n| solve_rows(&format!("history-ranks-{n}"), n, &args).2)
         .collect();
@@ -522,6 +530,40 @@ fn quasi_static_coulomb_ranks_agree() {
             gap < 1e-8,
             "1 and {} ranks: stresses differ by {gap:e}",
             n + 1
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Asking for every step's outputs (`-history_output`, `-vtk`) leaves the
+/// answer as it is, to the last bit, on 1 and 2 ranks. (A step with
+/// outputs took its condensed load from a solve of its own, the others
+/// from the parts' responses, and the slip of the next step from the
+/// whole displacement: the same to round-off, but a sliding history at
+/// -ubr_lambda_rtol 1e-9 converged without -history_output and ended
+/// with exit 3 with it.)
+#[test]
+fn history_outputs_leave_the_answer_unchanged() {
+    let (dir, args) = coulomb_history("history-outputs");
+    let table = dir.join("steps.csv");
+    let vtk = dir.join("u.vtu");
+    for ranks in [1, 2] {
+        let mut plain: Vec<&str> = args.iter().map(String::as_str).collect();
+        let bare = run_outputs(&format!("history-bare-{ranks}"), ranks, &plain, None);
+        plain.extend([
+            "-history_output",
+            table.to_str().unwrap(),
+            "-vtk",
+            vtk.to_str().unwrap(),
+        ]);
+        let full = run_outputs(&format!("history-full-{ranks}"), ranks, &plain, None);
+        for out in [&bare, &full] {
+            assert_eq!(out.status, Some(0), "{}", out.context());
+        }
+        assert!(table.exists(), "no history table");
+        assert!(
+            bare.csv_text.is_some() && bare.csv_text == full.csv_text,
+            "{ranks} ranks: the contact CSV changed with -history_output and -vtk"
         );
     }
     let _ = std::fs::remove_dir_all(&dir);

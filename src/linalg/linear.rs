@@ -168,6 +168,12 @@ impl LinearSolver {
         self.y0.is_some()
     }
 
+    /// Condensed on every component of each candidate: its solves know the
+    /// whole `u` of the candidates (the tangential part too).
+    pub fn condenses_every_component(&self) -> bool {
+        self.is_condensed() && self.comps.len() == self.dim
+    }
+
     /// Why the one factorization failed, when it did (the direct back-end
     /// keeps such a failure, the same on every rank: the problem is set up,
     /// every solve returns it, and the run reports it with its outputs).
@@ -474,8 +480,9 @@ impl LinearSolver {
     /// contact unknowns `xd_c` and the owned Dirichlet dofs and values;
     /// condensed, `y0` at the assembled r given as `y0a` (a combination of
     /// [`LinearSolver::contact_part`]s), else from one solve with the
-    /// factors, which also prepares the expansion of `keep` columns; then a
-    /// dense solve where r moved.
+    /// factors; that solve is made anyway where `keep` columns of the whole
+    /// displacement are wanted (it prepares their expansion), a given `y0a`
+    /// still kept; then a dense solve where r moved.
     pub fn set_load(
         &mut self,
         surface: &Surface,
@@ -501,14 +508,16 @@ impl LinearSolver {
             return Ok(());
         }
         let y0a = match y0a {
-            Some(y) => y,
-            None => {
+            Some(y) if keep == 0 => y,
+            given => {
+                // The solve prepares the expansion of the `keep` columns;
+                // a given y0 (a combination of responses) is kept.
                 self.solves += 1;
                 let mut y = vec![0.0; surface.len() * self.comps.len()];
                 if let Engine::Direct(d) = &mut self.engine {
                     d.solve_contact_part(&self.world, rhs0, &mut y, keep)?;
                 }
-                y
+                given.unwrap_or(y)
             }
         };
         let y0 = if self.r == self.r_assembled {

@@ -189,19 +189,22 @@ impl Problem {
     /// history): the load f, the Dirichlet values and the lifted
     /// right-hand side, on the same factorization.
     /// `keep`: the columns of the step's whole displacement wanted at its
-    /// end (condensed: the solve that gives `y0` prepares their expansion;
-    /// 0: `y0` is a combination of the parts' responses, no solve).
+    /// end (condensed: a solve prepares their expansion; 0: no solve).
     pub fn apply_load(&mut self, factors: &[f64], keep: usize) -> Result<(), Error> {
-        let whole = keep > 0;
-        if !whole {
-            self.part_responses()?;
-        }
+        // The condensed response is always the combination of the parts'
+        // (a step whose whole displacement is wanted also solves, for its
+        // expansion only): the one solve's y0 would differ by round-off,
+        // and a step's outputs (-history_output, -vtk) would change the
+        // steps after it (a sliding Coulomb history at -ubr_lambda_rtol
+        // 1e-9 converged without -history_output and stopped at
+        // -ubr_fp_max_it with it).
+        self.part_responses()?;
         let Some(parts) = &self.parts else {
             return Err(Error::Internal("a load step without a load history".into()));
         };
         let step = parts.at(factors);
-        let y0a = match (&parts.y0, whole) {
-            (Some(y0), false) => {
+        let y0a = match &parts.y0 {
+            Some(y0) => {
                 let mut y = vec![0.0; y0[0].len()];
                 let rest = parts.rest.as_ref().map(|_| &y0[parts.parts.len()]);
                 for (yg, &a) in y0.iter().zip(factors) {

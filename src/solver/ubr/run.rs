@@ -823,9 +823,13 @@ impl<'a, C: Communicator> Run<'a, C> {
             let [du2, u2] = allreduce_sum(self.world, [du2, u2]);
             self.out.criterion = paper_change(du2, self.last.dphi2, u2, self.last.phi2);
         }
-        if self.was_condensed && whole {
+        if self.was_condensed && whole && !self.lin.condenses_every_component() {
             // A condensed solve knew u at the Schur components only: u_t of the
-            // candidates from the whole displacement now known.
+            // candidates from the whole displacement now known. (Where the
+            // Schur components are all of them, u_t is the last evaluation's
+            // already: recomputed, it would differ by round-off, and a
+            // history's next step, which measures slip from it, would
+            // depend on whether a step's outputs were asked for.)
             let (st, surface) = (&mut self.state.surface, &self.surface);
             self.state.u.read(|u| {
                 for (i, &v) in surface.cs.node.iter().enumerate() {
