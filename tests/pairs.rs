@@ -448,7 +448,9 @@ fn node_to_segment_fails_the_patch_test() {
 
 /// A load history on the same factorization with a pair: the patch test's
 /// pressure in steps 0.5, 1, 0.25 (`-load_history` by group) gives the
-/// uniform pressures 5, 10, 2.5 exactly, on 1 and 2 ranks.
+/// uniform pressures 5, 10, 2.5 exactly, on 1 and 2 ranks, and the history
+/// table's columns of the pair (`contact_force_slave/master_*`: the
+/// master's force on the slave) carry the load, (0, P) over the width 1.
 #[test]
 fn load_history_with_a_pair() {
     let dir = scratch("pairs-history");
@@ -475,11 +477,25 @@ fn load_history_with_a_pair() {
         let head: Vec<&str> = lines.next().unwrap().split(',').collect();
         let peak = head.iter().position(|h| *h == "peak_pressure").unwrap();
         let nodes = head.iter().position(|h| *h == "contact_nodes").unwrap();
+        let column = |name: &str| {
+            head.iter()
+                .position(|h| *h == name)
+                .unwrap_or_else(|| panic!("no column {name} in {head:?}"))
+        };
+        let (fx, fy) = (
+            column("contact_force_slave/master_x"),
+            column("contact_force_slave/master_y"),
+        );
         for (line, want) in lines.zip([5.0, 10.0, 2.5]) {
             let f: Vec<&str> = line.split(',').collect();
             let p: f64 = f[peak].parse().unwrap();
             assert!((p - want).abs() < 1e-8 * want, "{ranks} ranks: {line}");
             assert_eq!(f[nodes], "6", "{line}");
+            let (x, y): (f64, f64) = (f[fx].parse().unwrap(), f[fy].parse().unwrap());
+            assert!(
+                x.abs() < 1e-8 * want && (y - want).abs() < 1e-8 * want,
+                "{line}"
+            );
         }
     }
     let _ = std::fs::remove_dir_all(&dir);

@@ -357,14 +357,7 @@ impl<C: Communicator> ContactProblem<'_, C> {
             factors: h.factors[k].clone(),
             contact_force: forces.contact.clone(),
             reactions: forces.reactions.clone(),
-            obstacles: match forces.obstacles.len() {
-                1 => Vec::new(),
-                _ => forces
-                    .obstacles
-                    .iter()
-                    .map(|(n, f, _)| (n.clone(), f.clone()))
-                    .collect(),
-            },
+            obstacles: history_forces(s, &forces.obstacles),
             iterations: sol.solved.iterations,
             converged: sol.solved.converged,
             ..Default::default()
@@ -404,4 +397,18 @@ fn fmt_factors(f: &[f64]) -> String {
         .map(|x| format!("{x:.4}"))
         .collect::<Vec<_>>()
         .join(",")
+}
+
+/// The forces of the history table's own columns: each rigid obstacle's
+/// where there are several (one's is `contact_force`), and each contact
+/// pair's (`SLAVE/MASTER`: the master's force on the slave, which
+/// `contact_force` leaves out), in the order of `forces`.
+fn history_forces(s: &Settings, forces: &[(String, Vec<f64>, usize)]) -> Vec<(String, Vec<f64>)> {
+    let rigid = s.contact.as_ref().map_or(0, |c| c.obstacles.len());
+    forces
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| rigid > 1 || k >= rigid)
+        .map(|(_, (n, f, _))| (n.clone(), f.clone()))
+        .collect()
 }
