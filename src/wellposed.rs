@@ -21,7 +21,7 @@ use crate::mesh::distribute::LocalMesh;
 use crate::petsc::{self, sys, Gather, Vector};
 use mpi::traits::*;
 use nalgebra::{DMatrix, SymmetricEigen};
-use pairs::joined;
+use pairs::{joined, refuse_one_body};
 
 mod pairs;
 
@@ -314,6 +314,7 @@ pub fn check<C: Communicator>(
     pairs: &[(String, String)],
 ) -> Result<Restraint, Error> {
     let bodies = Bodies::find(world, mesh)?;
+    refuse_one_body(world, mesh, &bodies, pairs)?;
     let d = mesh.dim;
     let k = modes(d);
     let nb = bodies.len();

@@ -312,6 +312,11 @@ fn bad_pairs_are_refused() {
             "no physical group 'nowhere'",
         ),
         (vec!["-contact_pair", "slave,lower"], "dimension"),
+        // The lower block's top and bottom: two faces of one body.
+        (
+            vec!["-contact_pair", "master,bottom"],
+            "'master' and 'bottom' are surfaces of one body",
+        ),
     ] {
         let mut a: Vec<&str> = base.to_vec();
         a.extend(extra.iter().copied());

@@ -5,6 +5,7 @@
 use super::{add_outer, modes, Bodies};
 use crate::comm::{allreduce_max_vec, allreduce_sum_vec};
 use crate::contact::ContactSet;
+use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
 use mpi::traits::*;
 use nalgebra::DMatrix;
@@ -117,4 +118,42 @@ pub(super) fn joined<C: Communicator>(
         })
         .collect();
     (out, masters)
+}
+
+/// Refuses a pair whose two surfaces lie on one body (exit 2): a pair puts
+/// two bodies meshed apart in contact. (Two faces of one body pass the
+/// mortar's facing test, the master behind the slave through the body: its
+/// gap is minus the body's thickness, and the run pressed them through
+/// each other, every element inverted.) Collective.
+pub(super) fn refuse_one_body<C: Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    bodies: &Bodies,
+    pairs: &[(String, String)],
+) -> Result<(), Error> {
+    // Per surface: the largest body of its nodes and minus the smallest
+    // (-1 and -inf where this rank has none: neutral in the maximum).
+    let none = [-1.0, f64::NEG_INFINITY];
+    let span = |name: &str| -> [f64; 2] {
+        mesh.group(name).map_or(none, |g| {
+            g.conn.nodes().iter().fold(none, |[hi, lo], &v| {
+                let b = bodies.node_body[v] as f64;
+                [hi.max(b), lo.max(-b)]
+            })
+        })
+    };
+    let local: Vec<f64> = pairs
+        .iter()
+        .flat_map(|(s, m)| span(s).into_iter().chain(span(m)))
+        .collect();
+    let all = allreduce_max_vec(world, &local);
+    for (p, (s, m)) in pairs.iter().enumerate() {
+        let [shi, slo, mhi, mlo] = [0, 1, 2, 3].map(|i| all[4 * p + i]);
+        if shi >= 0.0 && mhi >= 0.0 && shi == -slo && mhi == -mlo && shi == mhi {
+            return Err(Error::BadInput(format!(
+                "option -contact_pair: '{s}' and '{m}' are surfaces of one body (its cells join them); a pair puts two bodies meshed apart in contact (no shared nodes), and contact of a body with itself is not modelled"
+            )));
+        }
+    }
+    Ok(())
 }
