@@ -7,7 +7,7 @@
 
 use crate::checks::{self, Deformation, Diagnostics, Forces};
 use crate::comm::{allreduce_count, allreduce_max, allreduce_sum};
-use crate::contact::ContactSet;
+use crate::contact::{interior, ContactSet};
 use crate::error::{bad, Error};
 use crate::mesh::{self, distribute, distribute::LocalMesh};
 use crate::options::{self, unused::Unused, Algorithm, Friction, Partitioner, Settings};
@@ -449,6 +449,14 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let dirichlet = crate::fem::dirichlet_dofs(local, &s.dirichlet)?;
         let mut cs = ContactSet::build(local, contact)?;
         cs.add_pairs(self.world, local, contact)?;
+        let surfaces: Vec<&str> = contact.surfaces.iter().map(String::as_str).collect();
+        interior::refuse_inside(self.world, local, "-contact_surface", &surfaces)?;
+        let sides: Vec<&str> = contact
+            .pairs
+            .iter()
+            .flat_map(|(s, m)| [s.as_str(), m.as_str()])
+            .collect();
+        interior::refuse_inside(self.world, local, "-contact_pair", &sides)?;
         cs.align_normals(local, &dirichlet, contact);
         let pairs = contact.pairs.clone();
         cs.settle(self.world)?;

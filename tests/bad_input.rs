@@ -161,6 +161,52 @@ fn contact_surface_without_candidates() {
     );
 }
 
+/// A contact surface inside the body (a line embedded in the mesh, each
+/// segment a face of two triangles) is refused, for an obstacle and for a
+/// pair, on 1, 2 and 3 ranks; the boundary line beside it is accepted.
+#[test]
+fn contact_surface_inside_the_body() {
+    let (dir, msh) = gmsh_2d("embedded", "tests/edges/embedded2d.geo");
+    let base = [
+        "-mesh",
+        msh.as_str(),
+        "-E",
+        "1e5",
+        "-nu",
+        "0.3",
+        "-dirichlet_top",
+        "ux=0,uy=-0.003",
+        "-contact_direction",
+        "0,-1",
+        "-obstacle",
+        "plane",
+        "-obstacle_point",
+        "0,-0.01",
+    ];
+    let with = |extra: &[&'static str]| {
+        let mut a = base.to_vec();
+        a.extend_from_slice(extra);
+        a
+    };
+    for ranks in [1, 2, 3] {
+        expect_bad_on(
+            ranks,
+            "inside",
+            &with(&["-contact_surface", "mid"]),
+            &["-contact_surface", "'mid' has 12 facets inside the body"],
+        );
+    }
+    expect_bad_on(
+        2,
+        "inside-pair",
+        &with(&["-contact_surface", "bottom", "-contact_pair", "mid,top"]),
+        &["-contact_pair", "'mid' has 12 facets inside the body"],
+    );
+    let run = mpirun(2, &with(&["-contact_surface", "bottom"]));
+    assert_eq!(run.status, Some(0), "{}", run.context());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn not_a_number() {
     expect_bad("nan", &hertz(&["-E", "abc"]), "-E");

@@ -11,6 +11,7 @@ use crate::options::{ContactSettings, NamedObstacle, NormalMode};
 pub use obstacle::{closest, gap, Obstacle};
 
 pub mod hertz;
+pub mod interior;
 pub mod mesh_obstacle;
 pub mod mortar;
 pub mod mortar3d;
