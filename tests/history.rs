@@ -138,6 +138,28 @@ fn hertz_2d_steps_are_single_solves_and_follow_hertz() {
     let needle =
         "not converged: load step 1/5 (-load_steps 5 0.2000): UBR-C stopped after 18 iterations";
     assert!(run.stderr.contains(needle), "{}", run.context());
+    // So does a step whose solve cannot go on (here a non-finite iterate
+    // at an absurd factor, written as one number).
+    let table = dir.join("huge.csv");
+    std::fs::write(&table, "step,factor\n1,1e300\n").unwrap();
+    let run = mpirun(
+        2,
+        &[
+            "-options_file",
+            "options/hertz",
+            "-load_history",
+            table.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(run.status, Some(3), "{}", run.context());
+    let needle = "huge.csv 1.0000e300): UBR-C produced a non-finite iterate";
+    assert!(
+        run.stderr
+            .contains("not converged: load step 1/1 (-load_history"),
+        "{}",
+        run.context()
+    );
+    assert!(run.stderr.contains(needle), "{}", run.context());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

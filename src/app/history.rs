@@ -233,14 +233,13 @@ impl<C: Communicator> ContactProblem<'_, C> {
         let mut last: Option<Solution> = None;
         for (k, factors) in h.factors.iter().enumerate() {
             let t = Instant::now();
-            progress::phase(false, || {
-                format!(
-                    "load step {}/{n} ({} {})",
-                    k + 1,
-                    h.source,
-                    fmt_factors(factors)
-                )
-            });
+            let label = format!(
+                "load step {}/{n} ({} {})",
+                k + 1,
+                h.source,
+                fmt_factors(factors)
+            );
+            progress::phase(false, || label.clone());
             // What of the step's whole displacement is wanted: u and the
             // paper's change at the last step (and the first, a single
             // solve's), u alone for a per-step output, else nothing.
@@ -257,6 +256,13 @@ impl<C: Communicator> ContactProblem<'_, C> {
                 Whole::No => 0,
             };
             problem.apply_load(factors, keep)?;
+            // A solve that cannot go on (a non-finite iterate, a body that
+            // moves without bound) names the step, as one that stops
+            // unconverged does below.
+            let at_step = |e: Error| match e {
+                Error::NotConverged(m) => Error::NotConverged(format!("{label}: {m}")),
+                e => e,
+            };
             let sol = match last.take() {
                 None => {
                     let (state, solved) = outcome::solve(
@@ -266,7 +272,8 @@ impl<C: Communicator> ContactProblem<'_, C> {
                         problem,
                         restraint,
                         &self.events,
-                    )?;
+                    )
+                    .map_err(at_step)?;
                     Solution { state, solved }
                 }
                 Some(mut prev) => {
@@ -292,7 +299,8 @@ impl<C: Communicator> ContactProblem<'_, C> {
                         &mut prev.state,
                         &s_prev,
                         whole,
-                    )?;
+                    )
+                    .map_err(at_step)?;
                     Solution {
                         state: prev.state,
                         solved,
@@ -306,12 +314,7 @@ impl<C: Communicator> ContactProblem<'_, C> {
             if stop {
                 // The run's failure names the step.
                 let why = sol.solved.failure();
-                sol.solved.failure = Some(format!(
-                    "load step {}/{n} ({} {}): {why}",
-                    k + 1,
-                    h.source,
-                    fmt_factors(factors)
-                ));
+                sol.solved.failure = Some(format!("{label}: {why}"));
                 // (`failure()` puts a tension message first: it is in `why`.)
                 sol.solved.last.tension = 0.0;
             }
@@ -393,8 +396,12 @@ impl<C: Communicator> ContactProblem<'_, C> {
 }
 
 fn fmt_factors(f: &[f64]) -> String {
+    // (An exponent outside 1e-3..1e6: a factor of 1e300 is one number.)
     f.iter()
-        .map(|x| format!("{x:.4}"))
+        .map(|&x| match x.abs() {
+            a if a != 0.0 && !(1e-3..1e6).contains(&a) => format!("{x:.4e}"),
+            _ => format!("{x:.4}"),
+        })
         .collect::<Vec<_>>()
         .join(",")
 }
