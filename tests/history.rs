@@ -558,12 +558,13 @@ fn quasi_static_coulomb_ranks_agree() {
 }
 
 /// Asking for every step's outputs (`-history_output`, `-vtk`) leaves the
-/// answer as it is, to the last bit, on 1 and 2 ranks. (A step with
-/// outputs took its condensed load from a solve of its own, the others
-/// from the parts' responses, and the slip of the next step from the
-/// whole displacement: the same to round-off, but a sliding history at
-/// -ubr_lambda_rtol 1e-9 converged without -history_output and ended
-/// with exit 3 with it.)
+/// answer as it is: to the last bit on one rank, and within the run-to-run
+/// spread of MUMPS on 2 ranks (its parallel factorization is not bitwise
+/// repeatable). (A step with outputs took its condensed load from a solve
+/// of its own, the others from the parts' responses, and the slip of the
+/// next step from the whole displacement: the same to round-off, but a
+/// sliding history at -ubr_lambda_rtol 1e-9 converged without
+/// -history_output and ended with exit 3 with it.)
 #[test]
 fn history_outputs_leave_the_answer_unchanged() {
     let (dir, args) = coulomb_history("history-outputs");
@@ -583,10 +584,15 @@ fn history_outputs_leave_the_answer_unchanged() {
             assert_eq!(out.status, Some(0), "{}", out.context());
         }
         assert!(table.exists(), "no history table");
-        assert!(
-            bare.csv_text.is_some() && bare.csv_text == full.csv_text,
-            "{ranks} ranks: the contact CSV changed with -history_output and -vtk"
-        );
+        if ranks == 1 {
+            assert!(
+                bare.csv_text.is_some() && bare.csv_text == full.csv_text,
+                "the contact CSV changed with -history_output and -vtk"
+            );
+        } else {
+            let gap = max_stress_gap(&full.rows(), &bare.rows());
+            assert!(gap < 1e-8, "{ranks} ranks: stresses differ by {gap:e}");
+        }
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
