@@ -31,6 +31,11 @@ use mpi::traits::*;
 /// Accuracy stop: the Tresca solves' target, relative to the outer one.
 const INNER_TIGHTER: f64 = 0.1;
 
+/// A relative change of s at round-off, and how many in a row make a
+/// fixed point stopped at the cap one that has stopped moving.
+const FLAT_CHANGE: f64 = 1e-13;
+const FLAT_ITS: usize = 10;
+
 /// What the fixed point did.
 #[derive(Clone, Debug, Default)]
 pub struct CfFpOutcome {
@@ -93,6 +98,8 @@ pub fn cf_fp<C: Communicator>(
     // below which the last of them says the Tresca solves cannot go.
     let mut roundoffs = 0;
     let mut floor = 0.0f64;
+    // Consecutive fixed-point iterations whose change of s is round-off.
+    let mut flat = 0;
     for m in 0..fp_max_it {
         // The paper's variable inner tolerance eps_f^m = max(0.1^m, eps_f);
         // our dual and tension tests loosen with it (an open node's stress is
@@ -117,6 +124,11 @@ pub fn cf_fp<C: Communicator>(
             *x = nu_f * l.abs();
         }
         out.fp_change = relative_change(world, &w, &next, &s);
+        flat = if out.fp_change <= FLAT_CHANGE {
+            flat + 1
+        } else {
+            0
+        };
         // Accuracy mode: the change of lambda between Tresca solutions.
         let mut estimate = f64::INFINITY;
         if !paper {
@@ -171,7 +183,7 @@ pub fn cf_fp<C: Communicator>(
         outer_step(world, outer.as_mut(), &mut s, &mut next);
     }
     if !out.converged && out.failure.is_none() {
-        out.failure = Some(cap_message(&out, paper, fp_rtol, ctl.lambda_rtol));
+        out.failure = Some(cap_message(&out, paper, fp_rtol, ctl.lambda_rtol, flat));
     }
     Ok(out)
 }
@@ -208,7 +220,22 @@ fn outer_step<C: Communicator>(
 }
 
 /// The failure of CF-FP stopped by `-ubr_fp_max_it`.
-fn cap_message(out: &CfFpOutcome, paper: bool, fp_rtol: f64, lambda_rtol: f64) -> String {
+fn cap_message(
+    out: &CfFpOutcome,
+    paper: bool,
+    fp_rtol: f64,
+    lambda_rtol: f64,
+    flat: usize,
+) -> String {
+    if !paper && flat >= FLAT_ITS {
+        // More iterations would not help: the fixed point has stopped
+        // moving, and its estimate is inf because the ratios of round-off
+        // changes give no contraction.
+        return format!(
+            "CF-FP stopped after {} fixed-point iterations (-ubr_fp_max_it): the bound s has changed by at most {FLAT_CHANGE:.0e} (relative, round-off) over the last {flat}, but the changes of lambda between them are round-off and bound its error by nothing below the target -ubr_lambda_rtol {:.1e} / 4 (outer error estimate {:.3e}); the answer is as accurate as double precision resolves this problem: ask for a looser -ubr_lambda_rtol",
+            out.fixed_point_iterations, lambda_rtol, out.fp_error_estimate
+        );
+    }
     if paper {
         format!(
             "CF-FP stopped after {} fixed-point iterations (-ubr_fp_max_it): relative change of s {:.3e} (target -ubr_fp_rtol {:.1e}); try -ubr_fp_max_it larger",
@@ -352,4 +379,32 @@ fn monitor(
         run.stick,
         run.slip
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// At the cap, a fixed point whose s has stopped moving (round-off
+    /// changes for FLAT_ITS iterations) is told to loosen the tolerance,
+    /// not to iterate longer; one still moving is told to iterate longer.
+    #[test]
+    fn the_cap_message_tells_a_stopped_fixed_point_from_a_slow_one() {
+        let out = CfFpOutcome {
+            fixed_point_iterations: 100,
+            fp_change: 1.7e-15,
+            fp_error_estimate: f64::INFINITY,
+            ..Default::default()
+        };
+        let stopped = cap_message(&out, false, 1e-4, 1e-9, FLAT_ITS);
+        assert!(
+            stopped.contains("ask for a looser -ubr_lambda_rtol"),
+            "{stopped}"
+        );
+        assert!(!stopped.contains("-ubr_fp_max_it larger"), "{stopped}");
+        let slow = cap_message(&out, false, 1e-4, 1e-9, FLAT_ITS - 1);
+        assert!(slow.contains("try -ubr_fp_max_it larger"), "{slow}");
+        let paper = cap_message(&out, true, 1e-4, 1e-9, FLAT_ITS);
+        assert!(paper.contains("target -ubr_fp_rtol"), "{paper}");
+    }
 }
