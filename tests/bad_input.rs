@@ -97,6 +97,43 @@ fn truncated_mesh() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A cell given twice under two element tags (two copies of a part
+/// concatenated) would count its stiffness twice: refused, naming both.
+/// (Gmsh's MSH 2.2 copies of an element for another physical group follow
+/// it and are read once: the copy here is placed apart.)
+#[test]
+fn repeated_cell() {
+    let dir = scratch("repeated-src");
+    let text = std::fs::read_to_string(root().join("meshes/hertz_442_v22.msh")).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let at = lines.iter().position(|l| *l == "$Elements").unwrap();
+    let count: usize = lines[at + 1].trim().parse().unwrap();
+    let last = lines[at + 1 + count];
+    let mut fields: Vec<&str> = last.split_whitespace().collect();
+    let tag = (count + 1000).to_string();
+    fields[0] = &tag;
+    let copy = fields.join(" ");
+    let total = (count + 1).to_string();
+    let mut out: Vec<&str> = lines[..=at].to_vec();
+    out.push(&total);
+    out.extend(&lines[at + 2..at + count]);
+    out.push(&copy);
+    out.extend(&lines[at + count..]);
+    let msh = dir.join("repeated.msh");
+    std::fs::write(&msh, out.join("\n") + "\n").unwrap();
+    let m = msh.to_str().unwrap().to_string();
+    expect_bad_on(
+        2,
+        "repeated",
+        &hertz_args(&m, &[]),
+        &[&format!(
+            "elements {} and {tag} have the same nodes",
+            last.split_whitespace().next().unwrap()
+        )],
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn unknown_dirichlet_group() {
     expect_bad("dirgroup", &hertz(&["-dirichlet_nosuch", "ux=0"]), "nosuch");

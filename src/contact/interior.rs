@@ -87,7 +87,7 @@ pub fn refuse_inside<C: Communicator>(
         let count = counts[k] as usize;
         if count > 0 {
             return Err(Error::BadInput(format!(
-                "option {option}: surface '{name}' has {count} facet{} inside the body (each a face of two cells; the first at node {}): a contact surface lies on the boundary of its body",
+                "option {option}: surface '{name}' has {count} facet{} inside the body (each a face of two cells, or of a cell the mesh gives twice; the first at node {}): a contact surface lies on the boundary of its body",
                 if count == 1 { "" } else { "s" },
                 tags[k]
             )));

@@ -621,7 +621,65 @@ pub fn load(source: &MeshSource) -> Result<Mesh, Error> {
         _ => None,
     };
     check_cells(&mesh, origin.as_deref())?;
+    if let MeshSource::File(_) = source {
+        check_repeated(&mesh)?;
+    }
     Ok(mesh)
+}
+
+/// A file's cell given twice (the same nodes under two element tags: two
+/// meshes of one part concatenated, a converter's copy) would count its
+/// stiffness twice, silently: refused, naming both. (Gmsh's own copies of
+/// an element in two physical groups, MSH 2.2, share a tag and are read
+/// once.) Cells are grouped by their lowest node (a counting sort), and
+/// compared within a group: linear in the cells.
+fn check_repeated(mesh: &Mesh) -> Result<(), Error> {
+    let n = mesh.num_cells();
+    let low = |c: usize| mesh.cells.get(c).iter().copied().min().unwrap_or(0);
+    let mut start = vec![0usize; mesh.num_nodes() + 1];
+    for c in 0..n {
+        start[low(c) + 1] += 1;
+    }
+    for v in 0..mesh.num_nodes() {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut by_low = vec![0usize; n];
+    for c in 0..n {
+        by_low[fill[low(c)]] = c;
+        fill[low(c)] += 1;
+    }
+    // A cell's nodes sorted, padded (cells have at most 8 nodes).
+    let key = |c: usize| {
+        let mut k = [usize::MAX; 8];
+        for (slot, &v) in k.iter_mut().zip(mesh.cells.get(c)) {
+            *slot = v;
+        }
+        k.sort_unstable();
+        k
+    };
+    let mut keys: Vec<([usize; 8], usize)> = Vec::new();
+    for v in 0..mesh.num_nodes() {
+        keys.clear();
+        keys.extend(by_low[start[v]..start[v + 1]].iter().map(|&c| (key(c), c)));
+        keys.sort_unstable();
+        if let Some(w) = keys.windows(2).find(|w| w[0].0 == w[1].0) {
+            let (a, b) = (w[0].1, w[1].1);
+            let nodes: Vec<String> = mesh
+                .cells
+                .get(a)
+                .iter()
+                .map(|&v| mesh.node_tags[v].to_string())
+                .collect();
+            return bad(format!(
+                "mesh: elements {} and {} have the same nodes ({}): a cell given twice would count its stiffness twice; remove one",
+                mesh.cell_tag(a).min(mesh.cell_tag(b)),
+                mesh.cell_tag(a).max(mesh.cell_tag(b)),
+                nodes.join(" ")
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Cells of both orientations: the minority ones are inverted (a broken
