@@ -665,21 +665,26 @@ fn check_repeated(mesh: &Mesh) -> Result<(), Error> {
         keys.sort_unstable();
         if let Some(w) = keys.windows(2).find(|w| w[0].0 == w[1].0) {
             let (a, b) = (w[0].1, w[1].1);
-            let nodes: Vec<String> = mesh
-                .cells
-                .get(a)
-                .iter()
-                .map(|&v| mesh.node_tags[v].to_string())
-                .collect();
             return bad(format!(
                 "mesh: elements {} and {} have the same nodes ({}): a cell given twice would count its stiffness twice; remove one",
                 mesh.cell_tag(a).min(mesh.cell_tag(b)),
                 mesh.cell_tag(a).max(mesh.cell_tag(b)),
-                nodes.join(" ")
+                cell_nodes(mesh, a)
             ));
         }
     }
     Ok(())
+}
+
+/// The file's node tags of cell `c`, for messages: "12 7 40".
+fn cell_nodes(mesh: &Mesh, c: usize) -> String {
+    let tags: Vec<String> = mesh
+        .cells
+        .get(c)
+        .iter()
+        .map(|&v| mesh.node_tags[v].to_string())
+        .collect();
+    tags.join(" ")
 }
 
 /// Cells of both orientations: the minority ones are inverted (a broken
@@ -711,13 +716,7 @@ fn check_cells(mesh: &Mesh, origin: Option<&[usize]>) -> Result<(), Error> {
         return Ok(());
     };
     let (lo, hi) = ranges[c];
-    let nodes: Vec<String> = mesh
-        .cells
-        .get(c)
-        .iter()
-        .map(|&v| mesh.node_tags[v].to_string())
-        .collect();
-    let nodes = nodes.join(" ");
+    let nodes = cell_nodes(mesh, c);
     let finite = lo.is_finite() && hi.is_finite();
     if finite && lo < 0.0 && hi > 0.0 {
         return bad(format!(
