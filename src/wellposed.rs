@@ -21,7 +21,7 @@ use crate::mesh::distribute::LocalMesh;
 use crate::petsc::{self, sys, Gather, Vector};
 use mpi::traits::*;
 use nalgebra::{DMatrix, SymmetricEigen};
-use pairs::{joined, refuse_one_body};
+use pairs::{joined, pair_bodies};
 
 mod pairs;
 
@@ -314,7 +314,7 @@ pub fn check<C: Communicator>(
     pairs: &[(String, String)],
 ) -> Result<Restraint, Error> {
     let bodies = Bodies::find(world, mesh)?;
-    refuse_one_body(world, mesh, &bodies, pairs)?;
+    let sides = pair_bodies(world, mesh, &bodies, pairs)?;
     let d = mesh.dim;
     let k = modes(d);
     let nb = bodies.len();
@@ -357,7 +357,7 @@ pub fn check<C: Communicator>(
         g[b * per + 3 * k * k] += 1.0;
     }
     let g = allreduce_sum_vec(world, &g);
-    let (joined, pair_master) = joined(world, mesh, &bodies, cs, friction, pairs);
+    let (joined, pair_master) = joined(world, mesh, &bodies, cs, friction, &sides);
     let block = |b: usize, i: usize| {
         DMatrix::from_row_slice(k, k, &g[b * per + i * k * k..b * per + (i + 1) * k * k])
     };

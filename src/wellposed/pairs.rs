@@ -24,34 +24,20 @@ pub(super) struct Joined {
 
 /// The rows of every contact pair, by body ([`Joined`]); a pair's master
 /// body is the one its master surface's nodes lie in (the last where it
-/// spans several). Collective.
+/// spans several): `sides`, from [`pair_bodies`]. Collective.
 pub(super) fn joined<C: Communicator>(
     world: &C,
     mesh: &LocalMesh,
     bodies: &Bodies,
     cs: &ContactSet,
     friction: bool,
-    pairs: &[(String, String)],
+    sides: &[f64],
 ) -> (Vec<Joined>, Vec<usize>) {
     let (d, k, nb) = (mesh.dim, modes(mesh.dim), bodies.len());
-    let np = pairs.len();
+    let np = sides.len() / 2;
     if np == 0 {
         return (Vec::new(), Vec::new());
     }
-    let body_of = |name: &str| -> f64 {
-        mesh.group(name).map_or(-1.0, |g| {
-            let nodes = g.conn.nodes();
-            nodes
-                .iter()
-                .map(|&v| bodies.node_body[v] as f64)
-                .fold(-1.0, f64::max)
-        })
-    };
-    let sides: Vec<f64> = pairs
-        .iter()
-        .flat_map(|(s, m)| [body_of(s), body_of(m)])
-        .collect();
-    let sides = allreduce_max_vec(world, &sides);
     // Per pair: slave normal, slave tangential, master normal, master
     // tangential (k x k each), and the candidates.
     let per = 4 * k * k + 1;
@@ -120,17 +106,19 @@ pub(super) fn joined<C: Communicator>(
     (out, masters)
 }
 
-/// Refuses a pair whose two surfaces lie on one body (exit 2): a pair puts
-/// two bodies meshed apart in contact. (Two faces of one body pass the
-/// mortar's facing test, the master behind the slave through the body: its
-/// gap is minus the body's thickness, and the run pressed them through
-/// each other, every element inverted.) Collective.
-pub(super) fn refuse_one_body<C: Communicator>(
+/// The bodies of each pair's two surfaces: the largest body of the slave's
+/// nodes, then of the master's (-1 for a group with no node), two values
+/// per pair. Refuses a pair whose two surfaces lie on one body (exit 2): a
+/// pair puts two bodies meshed apart in contact. (Two faces of one body
+/// pass the mortar's facing test, the master behind the slave through the
+/// body: its gap is minus the body's thickness, and the run pressed them
+/// through each other, every element inverted.) Collective.
+pub(super) fn pair_bodies<C: Communicator>(
     world: &C,
     mesh: &LocalMesh,
     bodies: &Bodies,
     pairs: &[(String, String)],
-) -> Result<(), Error> {
+) -> Result<Vec<f64>, Error> {
     // Per surface: the largest body of its nodes and minus the smallest
     // (-1 and -inf where this rank has none: neutral in the maximum).
     let none = [-1.0, f64::NEG_INFINITY];
@@ -155,5 +143,5 @@ pub(super) fn refuse_one_body<C: Communicator>(
             )));
         }
     }
-    Ok(())
+    Ok(all.chunks(2).map(|c| c[0]).collect())
 }
