@@ -2,7 +2,7 @@
 # Strong scaling on a lent 16-core machine in one prepared call (issue "Scaling studies"):
 # the 2D (-mesh_h 0.01) and 3D (-mesh_h 0.0333) direct scenes at 1..16 ranks, the 1M-node
 # GAMG block at 16, and variants. Needs the relocatable bundle (../shared/tools/bundle) in
-# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh [full|partition|local|final|repeat|gamg|ptscotch]
+# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh [full|partition|local|final|repeat|gamg|ptscotch|current]
 # Writes $OUT/dev.log (summary lines) and $OUT/runs.txt (every run's whole output).
 set -u
 OUT=${OUT:-/tmp/out}; mkdir -p "$OUT"
@@ -74,6 +74,12 @@ ptscotch)  # the graph partitioned in parallel (PT-Scotch) against METIS on rank
 echo "== 1M GAMG"; one 16 g3pt $G3 -partition ptscotch -log_view; one 16 g3metis $G3 -partition metis
 one 16 g3rcb $G3 -partition rcb; one 16 g3pt $G3 -partition ptscotch
 echo "== 2D direct"; one 16 d2pt $H2 -partition ptscotch; one 16 d2 $H2
+;;
+current)  # the end points of the current binary, then the parallel partition at 1M nodes (16 ranks)
+echo "== 2D direct"; one 1 d2 $H2; one 16 d2 $H2 -log_view; one 16 d2 $H2; one 16 d2pt $H2 -partition ptscotch
+echo "== 3D direct"; one 1 d3 $H3; one 16 d3 $H3 -log_view; one 16 d3 $H3; one 8 d3 $H3
+echo "== 1M GAMG"; one 16 g3pt $G3 -partition ptscotch -log_view; one 16 g3rcb $G3 -partition rcb -log_view
+one 16 g3 $G3; one 16 g3pt $G3 -partition ptscotch; one 1 d2 $H2; one 1 d3 $H3
 ;;
 esac
 echo "== done after $(( $(date +%s) - T0 )) s"
