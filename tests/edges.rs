@@ -14,6 +14,9 @@
 //! - Item 6: non-convergence named by its cause, and stopped early.
 //! - Items 3, 4: Tresca friction on open candidates is named; the default
 //!   Tresca bound's own error is part of the estimate, and the promise holds.
+//! - A mesh that Gmsh partitioned (`-part N`, MSH 4.1, ASCII or binary, with
+//!   or without ghost cells) reads as the same mesh unpartitioned: it was
+//!   refused ("partitioned meshes are not supported").
 
 mod common;
 use common::*;
@@ -444,4 +447,63 @@ fn tresca_default_bound_keeps_the_promise() {
     );
     assert!(estimate <= 0.25e-3, "estimate {estimate:.3e}");
     let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Gmsh's partitioned files give the answer of the unpartitioned file: the
+/// resting Coulomb blocks, 2D in 4 parts (ASCII), 3D in 3 parts with ghost
+/// cells (binary), on 1 and 2 ranks, at a tight tolerance.
+#[test]
+fn gmsh_partitioned_files_read_whole() {
+    for (dim, extra) in [
+        (2, vec!["-part", "4"]),
+        (
+            3,
+            vec![
+                "-part",
+                "3",
+                "-bin",
+                "-setnumber",
+                "Mesh.PartitionCreateGhostCells",
+                "1",
+            ],
+        ),
+    ] {
+        let name = format!("partitioned{dim}d");
+        let (_d1, plain) = mesh(&name, &format!("block{dim}d"), dim);
+        let (_d2, parted) = mesh_with(
+            &format!("{name}_parts"),
+            &format!("block{dim}d"),
+            dim,
+            &extra,
+        );
+        let tight = |msh: &str| {
+            let mut a = block_args(msh, dim, true, 0.0);
+            a.extend(["-ubr_lambda_rtol".into(), "1e-10".into()]);
+            a
+        };
+        let args = tight(&plain);
+        let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+        let (run, _, reference) = solve_rows(&format!("{name}_plain"), 1, &a);
+        let size_line = |out: &str| {
+            out.lines()
+                .find(|l| l.contains(" nodes, "))
+                .map(str::to_string)
+        };
+        for ranks in [1, 2] {
+            let args = tight(&parted);
+            let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+            let (r, _, rows) = solve_rows(&format!("{name}_n{ranks}"), ranks, &a);
+            assert_eq!(
+                size_line(&r.stdout),
+                size_line(&run.stdout),
+                "{name} on {ranks}"
+            );
+            let gap = max_stress_gap(&rows, &reference);
+            assert!(
+                gap <= 1e-8,
+                "{name} on {ranks} ranks: stress gap {gap:.3e}\n{}",
+                r.stdout
+            );
+        }
+    }
 }

@@ -9,8 +9,11 @@
 //! * Sections: `$MeshFormat`, `$PhysicalNames` (optional), `$Entities` (4.1:
 //!   maps element blocks to physical tags), `$Nodes`, `$Elements`. Other
 //!   sections (`$Periodic`, `$NodeData`, `$Comments`, ...) are skipped up to
-//!   their `$End...` line. Partitioned 4.1 meshes (`$PartitionedEntities`) are
-//!   not supported.
+//!   their `$End...` line. A partitioned 4.1 mesh (`$PartitionedEntities`,
+//!   Gmsh's `-part N`) is read whole: its element blocks take their physical
+//!   tags from the partitioned entities, the facets Gmsh adds on the
+//!   interfaces between partitions join no group, and the partition is not
+//!   used (ghost cells, in `$GhostElements`, are skipped).
 //! * Element types 15 (point), 1 (2-node line), 2 (3-node triangle),
 //!   3 (4-node quadrilateral), 4 (4-node tetrahedron), 5 (8-node
 //!   hexahedron), 6 (6-node prism) and 7 (5-node pyramid), in any mix. Any
@@ -254,8 +257,11 @@ struct Reader<'a> {
     section: &'static str,
     names: HashMap<(usize, i32), String>,
     name_order: Vec<(usize, i32)>,
-    /// 4.1 `(dim, entity tag) -> range` in `entity_phys`.
+    /// 4.1 `(dim, entity tag) -> range` in `entity_phys` (of the
+    /// partitioned entities when the file has them).
     entities: Option<HashMap<(usize, i32), (usize, usize)>>,
+    /// 4.1: `$PartitionedEntities` was read.
+    partitioned: bool,
     entity_phys: Vec<i32>,
     /// Three coordinates per node.
     coords: Vec<f64>,
@@ -299,6 +305,7 @@ impl<'a> Reader<'a> {
             names: HashMap::new(),
             name_order: Vec::new(),
             entities: None,
+            partitioned: false,
             entity_phys: Vec::new(),
             coords: Vec::new(),
             node_tags: Vec::new(),
@@ -634,12 +641,7 @@ impl<'a> Reader<'a> {
             match t {
                 b"$PhysicalNames" => self.physical_names()?,
                 b"$Entities" if self.v4 => self.entities(at)?,
-                b"$PartitionedEntities" if self.v4 => {
-                    return Err(self.err(
-                        at,
-                        "partitioned meshes ($PartitionedEntities) are not supported",
-                    ))
-                }
+                b"$PartitionedEntities" if self.v4 => self.partitioned_entities(at)?,
                 b"$Nodes" => self.nodes(at)?,
                 b"$Elements" => self.elements(at)?,
                 b"$MeshFormat" => return Err(self.err(at, "duplicate $MeshFormat section")),
@@ -717,14 +719,48 @@ impl<'a> Reader<'a> {
 
     fn entities(&mut self, at: usize) -> Res<()> {
         if self.entities.is_some() {
-            return Err(self.err(at, "duplicate $Entities section"));
+            let what = if self.partitioned {
+                "$Entities must come before $PartitionedEntities"
+            } else {
+                "duplicate $Entities section"
+            };
+            return Err(self.err(at, what));
         }
+        self.entity_section(at, "$Entities", false)
+    }
+
+    /// A partitioned 4.1 file's `$PartitionedEntities`: its element blocks
+    /// refer to these entities, so their physical tags replace those of
+    /// `$Entities`. The partition itself is not used (the program partitions
+    /// the mesh for its own ranks). The entities Gmsh makes on the interfaces
+    /// between partitions (a parent of higher dimension) carry the parent
+    /// volume's or surface's physical tags under their own dimension; they
+    /// are given none, so their facets join no group.
+    fn partitioned_entities(&mut self, at: usize) -> Res<()> {
+        if self.partitioned {
+            return Err(self.err(at, "duplicate $PartitionedEntities section"));
+        }
+        self.partitioned = true;
+        self.entities = None;
+        self.entity_phys.clear();
+        self.entity_section(at, "$PartitionedEntities", true)
+    }
+
+    /// The body of `$Entities` or `$PartitionedEntities` (the latter starts
+    /// with the partition count and the ghost entities, and each entity with
+    /// its parent and its partitions).
+    fn entity_section(&mut self, at: usize, name: &'static str, parted: bool) -> Res<()> {
         if self.elements_at.is_some() {
-            return Err(self.err(at, "$Entities must come before $Elements"));
+            return Err(self.err(at, format_args!("{name} must come before $Elements")));
         }
-        self.section = "$Entities";
+        self.section = name;
         if self.binary {
             self.end_of_line()?;
+        }
+        if parted {
+            self.size("number of partitions")?;
+            let ghosts = self.size("number of ghost entities")?;
+            self.skip_ints(ghosts.saturating_mul(2), "ghost entity tag or partition")?;
         }
         let mut counts = [0u64; 4];
         for c in &mut counts {
@@ -735,6 +771,18 @@ impl<'a> Reader<'a> {
             for _ in 0..n {
                 let at = self.here();
                 let tag = self.int("entity tag")?;
+                let mut own = true;
+                if parted {
+                    let parent_at = self.here();
+                    let parent = self.int("parent dimension")?;
+                    if !(0..=3).contains(&parent) {
+                        return Err(self.err(parent_at, "parent dimension must be 0 to 3"));
+                    }
+                    own = parent as usize == dim;
+                    self.int("parent tag")?;
+                    let np = self.size("number of partitions")?;
+                    self.skip_ints(np, "partition tag")?;
+                }
                 for _ in 0..if dim == 0 { 3 } else { 6 } {
                     self.real("entity coordinate")?;
                 }
@@ -742,23 +790,14 @@ impl<'a> Reader<'a> {
                 let start = self.entity_phys.len();
                 for _ in 0..np {
                     let p = self.int("physical tag")?;
-                    self.entity_phys.push(p);
+                    if own {
+                        self.entity_phys.push(p);
+                    }
                 }
                 let end = self.entity_phys.len();
                 if dim > 0 {
                     let nb = self.size("number of bounding entities")?;
-                    if self.binary {
-                        let bytes = usize::try_from(nb)
-                            .ok()
-                            .and_then(|n| n.checked_mul(4))
-                            .filter(|&n| n <= self.remaining())
-                            .ok_or_else(|| self.eof())?;
-                        self.pos += bytes;
-                    } else {
-                        for _ in 0..nb {
-                            self.int("bounding entity tag")?;
-                        }
-                    }
+                    self.skip_ints(nb, "bounding entity tag")?;
                 }
                 if map.insert((dim, tag), (start, end)).is_some() {
                     return Err(self.err(
@@ -769,7 +808,28 @@ impl<'a> Reader<'a> {
             }
         }
         self.entities = Some(map);
-        self.expect_end("$EndEntities")
+        self.expect_end(if parted {
+            "$EndPartitionedEntities"
+        } else {
+            "$EndEntities"
+        })
+    }
+
+    /// Skips `n` 4.1 integers (`int`: 4 bytes each in binary files).
+    fn skip_ints(&mut self, n: u64, what: &str) -> Res<()> {
+        if self.binary {
+            let bytes = usize::try_from(n)
+                .ok()
+                .and_then(|n| n.checked_mul(4))
+                .filter(|&n| n <= self.remaining())
+                .ok_or_else(|| self.eof())?;
+            self.pos += bytes;
+        } else {
+            for _ in 0..n {
+                self.int(what)?;
+            }
+        }
+        Ok(())
     }
 
     fn nodes(&mut self, at: usize) -> Res<()> {
@@ -1121,7 +1181,12 @@ impl<'a> Reader<'a> {
                         bat,
                         format_args!(
                             "element block refers to entity (dimension {dim}, tag {etag}) \
-                             that is not in $Entities"
+                             that is not in {}",
+                            if self.partitioned {
+                                "$PartitionedEntities"
+                            } else {
+                                "$Entities"
+                            }
                         ),
                     ));
                 };
@@ -1818,6 +1883,92 @@ $EndElements
         assert_eq!(ok(SQ41.as_bytes()), ok(SQ22.as_bytes()));
     }
 
+    /// [`SQ41`] partitioned in two by hand as Gmsh's `-part 2` writes it:
+    /// the model's `$Entities`, then `$PartitionedEntities` (one triangle in
+    /// each part, and an interface curve 8 whose parent is the surface, with
+    /// the surface's physical tag 12 and a line element on the diagonal),
+    /// the node and element blocks referring to the partitioned entities.
+    const SQ41P: &str = "$MeshFormat
+4.1 0 8
+$EndMeshFormat
+$PhysicalNames
+4
+0 10 \"corner\"
+1 1 \"bottom\"
+1 2 \"top\"
+2 12 \"body\"
+$EndPhysicalNames
+$Entities
+2 2 1 0
+1 0 0 0 1 10
+5 2 2 0 1 11
+1 0 0 0 1 0 0 1 1 2 1 -2
+3 0 1 0 1 1 0 2 2 3 2 3 -4
+1 0 0 0 1 1 0 1 12 2 1 3
+$EndEntities
+$PartitionedEntities
+2
+1
+3 2
+2 3 2 0
+11 0 1 1 1 0 0 0 1 10
+15 0 5 1 2 2 2 0 1 11
+6 1 1 1 1 0 0 0 1 0 0 1 1 2 11 -12
+7 1 3 1 2 0 1 0 1 1 0 2 2 3 2 12 -13
+8 2 1 2 1 2 0 0 0 1 1 0 1 12 0
+2 2 1 1 1 0 0 0 1 1 0 1 12 1 8
+3 2 1 1 2 0 0 0 1 1 0 1 12 1 -8
+$EndPartitionedEntities
+$Periodic
+0
+$EndPeriodic
+$Nodes
+3 5 1 5
+0 11 0 1
+1
+0 0 0
+2 2 1 3
+2
+3
+4
+1 0 0 1 0
+1 1 0 1 1
+0 1 0 0 1
+0 15 0 1
+5
+2 2 0
+$EndNodes
+$Elements
+7 7 1 8
+0 11 15 1
+1 1
+0 15 15 1
+2 5
+1 6 1 1
+3 1 2
+1 7 1 1
+4 3 4
+1 8 1 1
+8 1 3
+2 2 2 1
+6 1 2 3
+2 3 2 1
+7 1 3 4
+$EndElements
+$GhostElements
+0
+$EndGhostElements
+";
+
+    #[test]
+    fn partitioned_v41_reads_whole() {
+        assert_eq!(ok(SQ41P.as_bytes()), ok(SQ41.as_bytes()));
+        assert_eq!(
+            ok(SQ41P.replace('\n', "\r\n").as_bytes()),
+            ok(SQ41.as_bytes())
+        );
+    }
+
     #[test]
     fn square_crlf_line_ends() {
         let crlf = SQ22.replace('\n', "\r\n");
@@ -2173,8 +2324,37 @@ $EndElements
             err(s.as_bytes()),
             "t.msh:46: element block refers to entity (dimension 1, tag 4) that is not in $Entities"
         );
-        let s = SQ41.replace("$Entities", "$PartitionedEntities");
-        assert!(err(s.as_bytes()).contains(":11: partitioned meshes"));
+        let s = SQ41P.replace(
+            "$EndEntities\n",
+            "$EndEntities\n$Entities\n0 0 0 0\n$EndEntities\n",
+        );
+        assert_eq!(err(s.as_bytes()), "t.msh:19: duplicate $Entities section");
+        let s = SQ41P.replace(
+            "$EndPeriodic\n",
+            "$EndPeriodic\n$Entities\n0 0 0 0\n$EndEntities\n",
+        );
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:35: $Entities must come before $PartitionedEntities"
+        );
+        let s = SQ41P.replace(
+            "$Periodic",
+            "$PartitionedEntities\n1\n0\n0 0 0 0\n$EndPartitionedEntities\n$Periodic",
+        );
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:32: duplicate $PartitionedEntities section"
+        );
+        let s = SQ41P.replace("8 2 1 2 1 2", "8 4 1 2 1 2");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:28: parent dimension must be 0 to 3"
+        );
+        let s = SQ41P.replace("0 15 15 1\n", "0 5 15 1\n");
+        assert_eq!(
+            err(s.as_bytes()),
+            "t.msh:55: element block refers to entity (dimension 0, tag 5) that is not in $PartitionedEntities"
+        );
         let s = replace_line(SQ22, 2, "2.2 2 8");
         assert!(err(s.as_bytes()).starts_with("t.msh:2: bad file type `2`"));
         let s = SQ22.replace("$EndElements", "$EndElements\n7");
@@ -2321,6 +2501,7 @@ $EndElements
         let mut files: Vec<(String, Vec<u8>)> = vec![
             ("SQ22".into(), SQ22.as_bytes().to_vec()),
             ("SQ41".into(), SQ41.as_bytes().to_vec()),
+            ("SQ41P".into(), SQ41P.as_bytes().to_vec()),
         ];
         for (what, b) in variants(&square())
             .into_iter()
