@@ -737,3 +737,100 @@ fn vtu_of_mixed_meshes() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A section extruded along z and held in plane strain (u_z = 0 on both end
+/// faces) gives the 2D section's contact stresses at every layer of its
+/// nodes, and L times its contact force: the quarter cylinder of
+/// meshes/hertz.geo on triangles against its prisms (frictionless, 1 rank),
+/// on quadrilaterals against its hexahedra (Coulomb with a shear, 3 ranks).
+/// An identity of the discretizations: the z-independent field lies in both
+/// spaces, and both quadratures are exact on it.
+#[test]
+fn extruded_section_in_plane_strain_equals_2d() {
+    for (rec, coulomb, ranks) in [("0", false, 1), ("1", true, 3)] {
+        let dir = scratch(&format!("extruded_{rec}"));
+        let (m2, m3) = (dir.join("section.msh"), dir.join("slab.msh"));
+        gmsh("-2", "meshes/hertz.geo", &m2, &[("recombine", rec)]);
+        gmsh(
+            "-3",
+            "tests/edges/extruded_hertz.geo",
+            &m3,
+            &[("recombine", rec), ("L", "2"), ("nl", "3")],
+        );
+        let (m2, m3) = (m2.to_str().unwrap(), m3.to_str().unwrap());
+        let mut both = vec![
+            "-E",
+            "2000",
+            "-nu",
+            "0.3",
+            "-dirichlet_symmetry",
+            "ux=0",
+            "-contact_surface",
+            "contact",
+            "-obstacle",
+            "plane",
+            "-ubr_lambda_rtol",
+            "1e-10",
+        ];
+        if coulomb {
+            both.extend(["-friction", "coulomb", "-friction_coefficient", "0.3"]);
+        }
+        let mut a2 = both.clone();
+        a2.extend([
+            "-mesh",
+            m2,
+            "-contact_direction",
+            "0,-1",
+            "-obstacle_point",
+            "0,0",
+        ]);
+        a2.extend(["-traction_top", if coulomb { "20,-100" } else { "0,-100" }]);
+        let mut a3 = both;
+        a3.extend([
+            "-mesh",
+            m3,
+            "-contact_direction",
+            "0,-1,0",
+            "-obstacle_point",
+            "0,0,0",
+        ]);
+        a3.extend(["-dirichlet_front", "uz=0", "-dirichlet_back", "uz=0"]);
+        a3.extend([
+            "-traction_top",
+            if coulomb { "20,-100,0" } else { "0,-100,0" },
+        ]);
+        let (_, r2, rows2) = solve_rows(&format!("extruded_{rec}_2d"), 1, &a2);
+        let (run, r3, rows3) = solve_rows(&format!("extruded_{rec}_3d"), ranks, &a3);
+        let force = r3.contact_force / 2.0;
+        assert!(
+            (force - r2.contact_force).abs() <= 1e-9 * r2.contact_force,
+            "{rec}: {force} per unit length against {}",
+            r2.contact_force
+        );
+        let key = |x: &[f64; 3]| ((x[0] * 1e9).round() as i64, (x[1] * 1e9).round() as i64);
+        let section: std::collections::HashMap<_, _> =
+            rows2.iter().map(|r| (key(&r.x), r)).collect();
+        let peak = rows2.iter().map(|r| r.lambda_n.abs()).fold(0.0, f64::max);
+        assert_eq!(
+            rows3.len(),
+            4 * rows2.len(),
+            "{rec}: four layers of candidates"
+        );
+        for r in &rows3 {
+            let s = section[&key(&r.x)];
+            let gap = (r.lambda_n - s.lambda_n)
+                .abs()
+                .max((r.lambda_t[0] - s.lambda_t[0]).abs())
+                .max((r.lambda_t[1] - s.lambda_t[1]).abs())
+                .max(r.lambda_t[2].abs());
+            assert!(
+                gap <= 1e-8 * peak,
+                "{rec}: node {} at {:?}: {gap:.3e} of {peak}\n{}",
+                r.node,
+                r.x,
+                run.stdout
+            );
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
