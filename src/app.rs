@@ -185,6 +185,11 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     fn run(&mut self, unused: &mut Unused) -> Result<(), Error> {
         let mut local = self.make_and_distribute_mesh()?;
         crate::fem::material::resolve(&mut local, &self.settings)?;
+        let nu = crate::fem::material::local_max_nu(&local, &self.settings);
+        let nu = crate::comm::allreduce_max_n(self.world, nu);
+        if let Some(w) = crate::fem::material::locking_warning(nu, &local, &self.settings) {
+            self.warn(w);
+        }
         let (contact, dirichlet, restraint) = self.setup_contact(&local)?;
         let assembled = self.assemble(&local, contact, dirichlet, &restraint);
         let mut problem = assembled.map_err(|e| self.explain_r(e))?;

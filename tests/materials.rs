@@ -20,6 +20,9 @@
 //! - (b) tetrahedra (two bonded unit cubes): the closed form to 1e-8.
 //! - (c) 1, 2, 3 ranks agree to 1e-8.
 //! - (d) bad input: exit 2, one line naming the option.
+//! - (e) a Poisson's ratio above 0.49 on any body is warned of (the linear
+//!   elements lock): the option that set it named, none for an option no
+//!   cell takes, none in plane stress.
 
 mod common;
 use common::*;
@@ -423,4 +426,53 @@ fn bad_input() {
         ],
     );
     run.refused("generated mesh", 2, &["-E_body", "it has none"]);
+}
+
+/// (e) Nearly incompressible bodies are warned of, once, in stderr and the
+/// report, naming the option that set the Poisson's ratio; not for nu 0.49,
+/// not for a global -nu that no cell takes (each body has its own), not in
+/// plane stress.
+#[test]
+fn nearly_incompressible_is_warned() {
+    let (dir, msh) = mesh("locking", "-2", &geo_2d(false, ""));
+    let warned = |name: &str, ranks: usize, global: &'static str, extra: &[&str]| {
+        let mut a = args_2d(&msh, &["-E", "1"]);
+        a[3] = global; // the value of "-nu"
+        a.extend_from_slice(extra);
+        let (run, report, _) = solve_rows(name, ranks, &a);
+        let w: Vec<&String> = report
+            .warnings
+            .iter()
+            .filter(|w| w.contains("nearly incompressible"))
+            .collect();
+        assert!(w.len() <= 1, "{name}: {w:?}");
+        let w = w.first().map(|w| w.to_string());
+        if let Some(w) = &w {
+            assert_eq!(run.stderr.matches("nearly incompressible").count(), 1);
+            assert!(
+                run.stderr.contains(&format!("warning: {w}")),
+                "{}",
+                run.stderr
+            );
+            assert!(w.contains("lock") && w.contains("too stiff"), "{w}");
+        }
+        w
+    };
+    let w = warned("global", 1, "0.4999", &[]).expect("-nu 0.4999 is warned of");
+    assert!(
+        w.starts_with("-nu 0.4999: nearly incompressible (lambda/mu = 4999)"),
+        "{w}"
+    );
+    for ranks in [1, 3] {
+        let w = warned("body", ranks, "0.3", &["-nu_hard", "0.495"]).expect("-nu_hard 0.495");
+        assert!(w.starts_with("-nu_hard 0.495: "), "{w}");
+    }
+    assert_eq!(warned("at_0.49", 1, "0.49", &[]), None);
+    let unused = ["-nu_soft", "0.3", "-nu_hard", "0.3"];
+    assert_eq!(warned("unused_global", 2, "0.4999", &unused), None);
+    assert_eq!(
+        warned("plane_stress", 1, "0.4999", &["-plane_stress"]),
+        None
+    );
+    let _ = std::fs::remove_dir_all(dir);
 }
