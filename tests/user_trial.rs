@@ -651,6 +651,61 @@ fn two_contact_surfaces_agree_with_their_union() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Gmsh's physical names may hold spaces, an option's name cannot: an
+/// option names "Top Edge" as `Top_Edge` (or the value of `-contact_surface`
+/// as "Base Edge" too). The block with spaced names gives the answer of its
+/// plain names (contact CSV byte for byte, 1 rank; 2 ranks to 1e-9), Dirichlet,
+/// traction, contact and material options alike; a wrong name's error says
+/// how spaces are written. Before, such a group could not be named.
+#[test]
+fn group_names_with_spaces() {
+    let dir = scratch("trial-spaces");
+    let spaced = BLOCK
+        .replace("\"base\"", "\"Base Edge\"")
+        .replace("\"top\"", "\"Top Edge\"")
+        .replace("\"body\"", "\"The Body\"");
+    let plain = gmsh(&dir, "plain", BLOCK);
+    let spaced = gmsh(&dir, "spaced", &spaced);
+    let scene = |mesh: &str, names: [&str; 3], ranks: usize, tag: &str| -> Vec<u8> {
+        let [base, top, body] = names;
+        let (dirichlet, e) = (format!("-dirichlet_{top}"), format!("-E_{body}"));
+        let extra = ["-friction", "coulomb", "-friction_coefficient", "0.3"];
+        let mut a = block(mesh, &extra);
+        let i = a.iter().position(|x| *x == "base").unwrap();
+        a[i] = base;
+        a.extend([dirichlet.as_str(), "ux=0.002,uy=-0.01", e.as_str(), "800"]);
+        let csv = dir.join(format!("{tag}.csv"));
+        a.extend(["-contact_output", csv.to_str().unwrap()]);
+        let run = mpirun(ranks, &a);
+        ok(&run);
+        assert!(run.stdout.contains("E = 800"), "{}", run.stdout);
+        std::fs::read(&csv).unwrap()
+    };
+    let reference = scene(&plain, ["base", "top", "body"], 1, "plain");
+    for base in ["Base_Edge", "Base Edge"] {
+        let rows = scene(&spaced, [base, "Top_Edge", "The_Body"], 1, "spaced");
+        assert_eq!(rows, reference, "-contact_surface {base}");
+    }
+    let two = scene(&spaced, ["Base_Edge", "Top_Edge", "The_Body"], 2, "two");
+    let gap = max_stress_gap(
+        &parse_rows(&String::from_utf8(two).unwrap()),
+        &parse_rows(&String::from_utf8(reference).unwrap()),
+    );
+    assert!(gap <= 1e-9, "2 ranks: {gap:e}");
+    let mut a = block(&spaced, &[]);
+    let i = a.iter().position(|x| *x == "base").unwrap();
+    a[i] = "Base_Edge";
+    a.extend(["-dirichlet_top_edge", "uy=-0.01"]);
+    let line = error_line(&mpirun(2, &a));
+    assert!(
+        line.contains("no physical group 'top_edge'")
+            && line.contains("Top Edge (1D)")
+            && line.contains("a space in a group's name is written _"),
+        "{line}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `-vtk FILE.vtu` from 2 ranks: one file, read by meshio, with the mesh's
 /// node and cell counts, its node tags, and the report's pressure maximum;
 /// the `.pvtu` pieces carry the node tags too.

@@ -58,7 +58,7 @@ pub fn resolve(mesh: &mut LocalMesh, settings: &Settings) -> Result<(), Error> {
     let mut of_group: Vec<Option<(Material, String)>> = vec![None; mesh.groups.len()];
     for b in &m.bodies {
         let option = b.option();
-        let Some(g) = mesh.groups.iter().position(|g| g.name == b.group) else {
+        let Some(g) = crate::mesh::find_group(&mesh.groups, &b.group) else {
             return bad(format!(
                 "option {option}: the mesh has no body group '{}' (a physical group of its dimension, {}D; {})",
                 b.group,
@@ -134,8 +134,10 @@ pub fn local_max_nu(mesh: &LocalMesh, settings: &Settings) -> [f64; 2] {
         .iter()
         .map(|set| {
             set.iter().any(|&g| {
-                let name = &mesh.groups[g as usize].name;
-                bodies.iter().any(|b| b.nu.is_some() && &b.group == name)
+                bodies.iter().any(|b| {
+                    b.nu.is_some()
+                        && crate::mesh::find_group(&mesh.groups, &b.group) == Some(g as usize)
+                })
             })
         })
         .collect();
@@ -161,11 +163,12 @@ pub fn locking_warning(nu: [f64; 2], mesh: &LocalMesh, settings: &Settings) -> O
     }
     // The body groups that have cells: those of the sets (whole mesh).
     let has_cells = |name: &str| {
+        let found = crate::mesh::find_group(&mesh.groups, name);
         mesh.bodies
             .sets
             .iter()
             .flatten()
-            .any(|&g| mesh.groups[g as usize].name == name)
+            .any(|&g| Some(g as usize) == found)
     };
     let mut options: Vec<String> = settings
         .materials

@@ -65,7 +65,7 @@ impl LocalMesh {
         local < self.owned_count
     }
     pub fn group(&self, name: &str) -> Option<&Group> {
-        self.groups.iter().find(|g| g.name == name)
+        self.groups.get(super::find_group(&self.groups, name)?)
     }
     /// "a (1D), b (2D)": the mesh's groups and their dimensions, for messages.
     pub fn group_names(&self) -> String {
@@ -98,8 +98,13 @@ impl LocalMesh {
                     "option {option}: the mesh has no physical groups, and options name them: in Gmsh, add a {kind} (or Physical Point, Curve) for each boundary part before meshing, e.g. {example} in the .geo file"
                 )));
             }
+            let spaces = if self.groups.iter().any(|g| g.name.contains(' ')) {
+                "; a space in a group's name is written _ in an option"
+            } else {
+                ""
+            };
             return Err(Error::BadInput(format!(
-                "option {option}: the mesh has no physical group '{name}' (it has: {})",
+                "option {option}: the mesh has no physical group '{name}' (it has: {}{spaces})",
                 self.group_names()
             )));
         };

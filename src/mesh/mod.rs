@@ -267,6 +267,22 @@ impl FromIterator<Vec<usize>> for Cells {
     }
 }
 
+/// The index of the group named `name`: the group of that exact name, else
+/// the one group whose name reads `name` with each space written `_` (an
+/// option's name holds no space: `-dirichlet_Bottom_Face` names Gmsh's
+/// "Bottom Face"); none when two such groups make it ambiguous.
+pub fn find_group(groups: &[Group], name: &str) -> Option<usize> {
+    if let Some(i) = groups.iter().position(|g| g.name == name) {
+        return Some(i);
+    }
+    let spaced = |g: &Group| g.name.contains(' ') && g.name.replace(' ', "_") == name;
+    let mut it = groups.iter().enumerate().filter(|(_, g)| spaced(g));
+    match (it.next(), it.next()) {
+        (Some((i, _)), None) => Some(i),
+        _ => None,
+    }
+}
+
 /// A boundary (or point) physical group: its name and its elements.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Group {
@@ -430,7 +446,7 @@ impl Mesh {
         self.cells.len()
     }
     pub fn group(&self, name: &str) -> Option<&Group> {
-        self.groups.iter().find(|g| g.name == name)
+        self.groups.get(find_group(&self.groups, name)?)
     }
 
     /// The kind of cell `c`.
@@ -746,6 +762,34 @@ fn check_cells(mesh: &Mesh, origin: Option<&[usize]>) -> Result<(), Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn groups_by_name_spaces_as_underscores() {
+        let g = |name: &str| Group {
+            name: name.to_string(),
+            dim: 1,
+            conn: Cells::new(),
+        };
+        let groups = [
+            g("Bottom Face"),
+            g("a b"),
+            g("a_b"),
+            g("x y"),
+            g("x  y"),
+            g("x_ y"),
+        ];
+        assert_eq!(find_group(&groups, "Bottom Face"), Some(0));
+        assert_eq!(find_group(&groups, "Bottom_Face"), Some(0));
+        assert_eq!(find_group(&groups, "bottom_face"), None);
+        assert_eq!(find_group(&groups, "a_b"), Some(2), "the exact name first");
+        assert_eq!(find_group(&groups, "x_y"), Some(3));
+        assert_eq!(
+            find_group(&groups, "x__y"),
+            None,
+            "'x  y' and 'x_ y': ambiguous"
+        );
+        assert_eq!(find_group(&groups, "Face"), None);
+    }
 
     #[test]
     fn cells_uniform_then_mixed() {
