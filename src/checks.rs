@@ -585,7 +585,48 @@ pub fn setup_warnings<C: Communicator>(
             }
         }
     }
+    out.extend(penetration_warning(world, local, cs));
     Ok(out)
+}
+
+/// The initial penetration, as a fraction of the mesh's largest extent,
+/// from which a set-up is named as probably wrong: an interference fit is
+/// far below it, a contact direction of the wrong sign or an obstacle point
+/// in another unit far above.
+pub const DEEP_PENETRATION: f64 = 0.05;
+
+/// Candidates that start inside the obstacle (or behind their master
+/// surface) by more than [`DEEP_PENETRATION`] of the mesh's largest extent.
+fn penetration_warning<C: Communicator>(
+    world: &C,
+    local: &LocalMesh,
+    cs: &ContactSet,
+) -> Option<String> {
+    let d = local.dim;
+    // The bounding box of the owned nodes: max of x and of -x per axis.
+    let mut bb = [f64::NEG_INFINITY; 6];
+    for v in 0..local.owned_count {
+        for (c, &x) in local.x(v).iter().enumerate() {
+            bb[c] = bb[c].max(x);
+            bb[3 + c] = bb[3 + c].max(-x);
+        }
+    }
+    let deepest = cs.g.iter().fold(0.0f64, |m, &g| m.max(-g));
+    let mut m = [0.0; 7];
+    m[..6].copy_from_slice(&bb);
+    m[6] = deepest;
+    let m = allreduce_max_n(world, m);
+    let extent = (0..d).map(|c| m[c] + m[3 + c]).fold(0.0, f64::max);
+    let deepest = m[6];
+    if !(extent > 0.0 && deepest > DEEP_PENETRATION * extent) {
+        return None;
+    }
+    let inside = cs.g.iter().filter(|&&g| g < 0.0).count();
+    let [inside, all] = allreduce_sum(world, [inside as f64, cs.len() as f64]);
+    Some(format!(
+        "{inside} of {all} contact candidates start inside the obstacle (or behind their master surface), by up to {deepest:.4e}, {:.0}% of the mesh's largest extent {extent:.4e}: the contact pushes them out by that much; check the sign of -contact_direction (from the body toward the obstacle), -obstacle_point, and that the mesh and the obstacle use one unit of length",
+        100.0 * deepest / extent
+    ))
 }
 
 /// How far the answer is from small deformations.

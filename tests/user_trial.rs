@@ -342,7 +342,17 @@ fn residuals_are_scaled_when_nothing_touches() {
 fn probably_wrong_set_ups_warn() {
     let dir = scratch("trial-warn");
     let mesh = gmsh(&dir, "block", BLOCK);
-    let cases: [(&[&str], &str); 5] = [
+    let floating = |point| {
+        [
+            "-dirichlet_left",
+            "ux=0",
+            "-traction_top",
+            "0,-5",
+            "-obstacle_point",
+            point,
+        ]
+    };
+    let cases: [(&[&str], &str); 6] = [
         // The contact direction pointing away from the plane obstacle.
         (
             &["-dirichlet_top", "ux=0,uy=-0.01", "-contact_direction", "0,1"],
@@ -368,6 +378,13 @@ fn probably_wrong_set_ups_warn() {
             &["-dirichlet_top", "ux=0,uy=-0.1"],
             "(above 5%): the model is linear elasticity, for small deformations",
         ),
+        // The plane 0.15 above the base (7.5% of the block's length): the
+        // block starts deep inside the obstacle (it is lifted out rigidly,
+        // without strain, and ran without a word).
+        (
+            &floating("0,0.15"),
+            "21 of 21 contact candidates start inside the obstacle (or behind their master surface), by up to 1.5000e-1, 8% of the mesh's largest extent 2.0000e0",
+        ),
     ];
     for (extra, expected) in cases {
         let run = mpirun(2, &block(&mesh, extra));
@@ -376,8 +393,12 @@ fn probably_wrong_set_ups_warn() {
         assert_eq!(w.len(), 1, "{extra:?}: {}", run.stderr);
         assert!(w[0].contains(expected), "{extra:?}: {}", w[0]);
     }
-    // The correct set-up warns of nothing.
+    // The correct set-up warns of nothing, nor does a penetration of 4.5%
+    // of the length (an interference fit is far below it).
     let run = mpirun(2, &block(&mesh, &["-dirichlet_top", "ux=0,uy=-0.01"]));
+    ok(&run);
+    assert!(warnings(&run).is_empty(), "{}", run.stderr);
+    let run = mpirun(2, &block(&mesh, &floating("0,0.09")));
     ok(&run);
     assert!(warnings(&run).is_empty(), "{}", run.stderr);
     let _ = std::fs::remove_dir_all(&dir);
