@@ -781,7 +781,10 @@ impl Settings {
         let plane_stress = PLANE_STRESS.get()?;
         let (dirichlet, traction, pressure, body_force) = loads()?;
         let materials = materials::read(young, nu)?;
-        let mut notes = Vec::new();
+        let mut notes: Vec<String> = files::overridden()
+            .iter()
+            .map(|w| format!("warning: {w}"))
+            .collect();
         let contact = contact(&mut notes)?;
         let (friction, friction_coefficient, tresca_bound) = friction()?;
         let algorithm = Algorithm::parse(ALGORITHM.get()?).expect("a declared choice");

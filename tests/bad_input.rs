@@ -353,6 +353,42 @@ fn options_files_leave_nothing_unused() {
 
 // ----- options files (items 7 and 9 of "Trust at the edges") -----
 
+/// `-E 1000 -options_file options/hertz` ran at the file's E 2000 without
+/// a word (PETSc: the last one given wins): now a warning, on stderr once
+/// and in the report, on 2 ranks; `-options_file options/hertz -E 1000`,
+/// the usual override, says nothing.
+#[test]
+fn options_file_over_the_command_line_is_named() {
+    let dir = scratch("override");
+    let report = dir.join("r.json");
+    let r = report.to_str().unwrap();
+    let before = ["-E", "1000", "-options_file", "options/hertz", "-report", r];
+    let run = mpirun(2, &before);
+    assert_eq!(run.status, Some(0), "{}", run.stderr);
+    let line = "option -E is given twice: 1000 (the command line), then 2000 ('options/hertz' line 11); the later one, 2000, is used";
+    assert_eq!(
+        run.stderr.matches("is given twice").count(),
+        1,
+        "{}",
+        run.stderr
+    );
+    assert!(
+        run.stderr.contains(&format!("warning: {line}")),
+        "{}",
+        run.stderr
+    );
+    assert!(common::report(&report)
+        .warnings
+        .iter()
+        .any(|w| w.starts_with(line)));
+    let after = ["-options_file", "options/hertz", "-E", "1000", "-report", r];
+    let run = mpirun(2, &after);
+    assert_eq!(run.status, Some(0), "{}", run.stderr);
+    assert!(!run.stderr.contains("given twice"), "{}", run.stderr);
+    assert!(run.stdout.contains("E = 1000"), "{}", run.stdout);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// An options file that includes itself, directly or through a cycle of
 /// files: one line naming the cycle, exit 2, on one rank and on two (it was
 /// a stack overflow, exit 139).

@@ -34,14 +34,25 @@ pub struct Expanded {
     pub env: Option<String>,
     /// Every options file read, as named.
     pub files: Vec<String>,
+    /// The options the command line (its files expanded) gives twice with
+    /// different values, one warning each: the later one wins.
+    pub overridden: Vec<String>,
 }
 
 static READ: OnceLock<Vec<String>> = OnceLock::new();
+static OVERRIDDEN: OnceLock<Vec<String>> = OnceLock::new();
 
 /// Remembers the options files of the run (for the output checks: no
-/// output may overwrite one).
-pub fn record(files: Vec<String>) {
+/// output may overwrite one) and the options given twice.
+pub fn record(files: Vec<String>, overridden: Vec<String>) {
     let _ = READ.set(files);
+    let _ = OVERRIDDEN.set(overridden);
+}
+
+/// The warnings of options given twice with different values (empty
+/// before [`record`]).
+pub fn overridden() -> &'static [String] {
+    OVERRIDDEN.get().map(|v| v.as_slice()).unwrap_or(&[])
 }
 
 /// The options files of the run, as named (empty before [`record`]).
@@ -57,7 +68,11 @@ pub fn expand(args: &[String], env: Option<&str>, petscrc: &[PathBuf]) -> Result
     let mut w = Walker::default();
     let mut out = Vec::with_capacity(args.len());
     out.extend(args.first().cloned());
+    // PETSc reads PETSC_OPTIONS and its start-up files before the command
+    // line: only the command line's order is followed for overrides.
+    w.track = true;
     w.words(&args[args.len().min(1)..], "the command line", &mut out)?;
+    w.track = false;
     let env = match env {
         Some(e) if tokens(e).iter().any(|t| is_options_file(t)) => {
             let mut words = Vec::new();
@@ -84,10 +99,12 @@ pub fn expand(args: &[String], env: Option<&str>, petscrc: &[PathBuf]) -> Result
             w.file(&name, "PETSc's start-up files", &mut Vec::new(), true)?;
         }
     }
+    let overridden = w.overrides();
     Ok(Expanded {
         args: out,
         env,
         files: w.files,
+        overridden,
     })
 }
 
@@ -238,9 +255,110 @@ struct Walker {
     /// (canonical path, name as written) of the files being expanded.
     stack: Vec<(PathBuf, String)>,
     files: Vec<String>,
+    /// Whether options are followed for overrides (the command line's).
+    track: bool,
+    /// Each option seen (its name in lower case, as PETSc compares them):
+    /// its value and where it was given.
+    seen: std::collections::HashMap<String, Given>,
+    /// The warnings of one file's repeated options, by option (lower case).
+    overridden: Vec<(String, String)>,
+    /// The last value the command line itself gave each option.
+    command_line: std::collections::HashMap<String, Option<String>>,
+}
+
+/// An option's value and where it was given (`file` None: the command line).
+struct Given {
+    key: String,
+    value: Option<String>,
+    file: Option<String>,
+    line: usize,
+}
+
+/// "option -E is given twice: 1 (the command line), then 2 ('f' line 3); ...".
+fn override_message(
+    key: &str,
+    old: &Given,
+    value: &Option<String>,
+    file: Option<&str>,
+    line: usize,
+) -> String {
+    let at = |f: Option<&str>, l: usize| match f {
+        None => "the command line".to_string(),
+        Some(f) => format!("'{f}' line {l}"),
+    };
+    let shown = |v: &Option<String>| v.clone().unwrap_or_else(|| "(no value)".into());
+    format!(
+        "option {key} is given twice: {} ({}), then {} ({}); the later one, {}, is used (PETSc's rule: the last one given wins)",
+        shown(&old.value),
+        at(old.file.as_deref(), old.line),
+        shown(value),
+        at(file, line),
+        shown(value)
+    )
 }
 
 impl Walker {
+    /// Follows option `key` given `value` in `file` (None: the command line)
+    /// at `line`, for the overrides a user probably did not mean
+    /// ([`Walker::overrides`]): one file that gives an option twice with
+    /// two values (named unless given again later).
+    fn given(&mut self, key: &str, value: Option<&str>, file: Option<&str>, line: usize) {
+        if !self.track {
+            return;
+        }
+        let lower = key.trim_start_matches('-').to_ascii_lowercase();
+        let value = value.map(str::to_string);
+        // Only the option's last override counts.
+        self.overridden.retain(|(k, _)| *k != lower);
+        if let Some(old) = self.seen.get(&lower) {
+            if file.is_some() && old.file.as_deref() == file && old.value != value {
+                let message = override_message(key, old, &value, file, line);
+                self.overridden.push((lower.clone(), message));
+            }
+        }
+        let given = Given {
+            key: key.to_string(),
+            value,
+            file: file.map(str::to_string),
+            line,
+        };
+        if file.is_none() {
+            self.command_line.insert(lower.clone(), given.value.clone());
+        }
+        self.seen.insert(lower, given);
+    }
+
+    /// The warnings of the overrides a user probably did not mean: a file
+    /// that takes the last word over a value the command line gave before
+    /// it (`-E 1 -options_file f`, f giving `-E 2`: 2 is used), and one file
+    /// giving an option twice. A command line that overrides a file's
+    /// option, or a file over the options of a file it includes, is the
+    /// usual way to vary a scene and says nothing.
+    fn overrides(&self) -> Vec<String> {
+        let mut out: Vec<(&str, usize, String)> = Vec::new();
+        for (lower, last) in &self.seen {
+            let (Some(file), Some(earlier)) = (&last.file, self.command_line.get(lower)) else {
+                continue;
+            };
+            if *earlier != last.value {
+                let old = Given {
+                    key: last.key.clone(),
+                    value: earlier.clone(),
+                    file: None,
+                    line: 0,
+                };
+                let m = override_message(&last.key, &old, &last.value, Some(file), last.line);
+                out.push((file, last.line, m));
+            }
+        }
+        for (lower, m) in &self.overridden {
+            let last = &self.seen[lower];
+            out.push((last.file.as_deref().unwrap_or(""), last.line, m.clone()));
+        }
+        out.sort();
+        out.into_iter().map(|(_, _, m)| m).collect()
+    }
+
     /// Copies `words` (a command line or `PETSC_OPTIONS`) into `out`,
     /// expanding `-options_file FILE` in place.
     fn words(&mut self, words: &[String], from: &str, out: &mut Vec<String>) -> Result<(), String> {
@@ -260,6 +378,10 @@ impl Walker {
                 }
                 i += 2;
             } else {
+                if is_key(&words[i]) {
+                    let value = words.get(i + 1).filter(|v| !is_key(v));
+                    self.given(&words[i], value.map(String::as_str), None, 0);
+                }
                 out.push(words[i].clone());
                 i += 1;
             }
@@ -343,6 +465,9 @@ impl Walker {
                     }
                 }
             } else {
+                if !petsc_reads {
+                    self.given(&key, value.as_deref(), Some(name), n);
+                }
                 sink.push(key);
                 sink.extend(value);
             }
@@ -389,6 +514,48 @@ mod tests {
             s(&["-mesh", "my dir/m.msh"])
         );
         assert!(split("-mesh \"my dir").is_err());
+    }
+
+    /// Overrides the user probably did not mean are named (a file that
+    /// overrides the command line written before it, one file giving an
+    /// option twice), the usual ones are not (the command line or an
+    /// including file over a file's option), and only an option's last
+    /// override counts.
+    #[test]
+    fn surprising_overrides_are_named() {
+        let d = dir("overrides");
+        let (base, scene) = (d.join("base"), d.join("scene"));
+        std::fs::write(&base, "-E 1\n-nu 0.3\n-ksp_type cg\n-ksp_type preonly\n").unwrap();
+        let text = format!("-options_file {}\n-E 2\n-NU 0.3\n", base.display());
+        std::fs::write(&scene, text).unwrap();
+        let (b, sc) = (base.display().to_string(), scene.display().to_string());
+        let run = |args: &[&str]| {
+            let mut a = s(&["prog"]);
+            a.extend(s(args));
+            expand(&a, None, &[]).unwrap().overridden
+        };
+        let within = format!(
+            "option -ksp_type is given twice: cg ('{b}' line 3), then preonly ('{b}' line 4); the later one, preonly, is used (PETSc's rule: the last one given wins)"
+        );
+        let usual = run(&["-options_file", &sc, "-E", "3", "-mesh", "m"]);
+        assert_eq!(usual.len(), 1);
+        assert_eq!(usual[0], within);
+        let over = run(&["-E", "5", "-options_file", &sc, "-nu", "-0.5"]);
+        assert_eq!(
+            over,
+            [
+                within.clone(),
+                format!("option -E is given twice: 5 (the command line), then 2 ('{sc}' line 2); the later one, 2, is used (PETSc's rule: the last one given wins)")
+            ]
+        );
+        // Given again after the file: the command line's last word stands.
+        let again = run(&["-E", "5", "-options_file", &sc, "-E", "5"]);
+        assert_eq!(again, [within]);
+        // The same value twice, a flag twice: nothing to say.
+        let text = "-ubr_monitor\n-ubr_monitor\n-nu 0.3\n-nu 0.3\n";
+        std::fs::write(&base, text).unwrap();
+        assert!(run(&["-ubr_monitor", "-options_file", &b]).is_empty());
+        let _ = std::fs::remove_dir_all(&d);
     }
 
     #[test]
