@@ -343,3 +343,37 @@ fn tresca_3d_law_with_the_bound_solved_here() {
     check_friction(&rows, sc, 1e-6, 1e-4, |x| s[&x.node]).unwrap();
     assert!(rows.iter().any(|x| x.status == "slip"), "nothing slips");
 }
+
+/// Coulomb friction with a zero coefficient is the frictionless problem:
+/// CF-FP converges with the last Tresca solve's error estimate (it reported
+/// "converged: estimated error of lambda inf", the outer estimate taken from
+/// changes between solves of one bound), its stresses within the promise of
+/// the frictionless run's (the tangential ones too, zero there), on 1 and
+/// 2 ranks.
+#[test]
+fn zero_friction_coefficient_is_frictionless() {
+    let plain = ["-options_file", "options/hertz"];
+    let (_, rf, frictionless) = solve_rows("zero_mu_ref", 1, &plain);
+    for ranks in [1, 2] {
+        let a = [
+            "-options_file",
+            "options/hertz-coulomb",
+            "-friction_coefficient",
+            "0",
+        ];
+        let (run, r, rows) = solve_rows(&format!("zero_mu_{ranks}"), ranks, &a);
+        let e = r.lambda_error_estimate;
+        assert!(
+            r.converged && e.is_finite() && e <= 1e-3,
+            "estimate {e}\n{}",
+            run.stdout
+        );
+        assert!(!run.stdout.contains("lambda inf"), "{}", run.stdout);
+        let gap = max_stress_gap(&rows, &frictionless);
+        assert!(
+            gap <= 2e-3,
+            "{ranks} ranks: {gap:e} from the frictionless run"
+        );
+        assert!((r.contact_force - rf.contact_force).abs() <= 1e-9 * rf.contact_force);
+    }
+}

@@ -17,7 +17,9 @@
 //! fixed point stops on the same kind of guarantee as UBR: the change of
 //! lambda between two Tresca solutions (normal and tangential parts, each
 //! relative to its max norm) times the outer amplification `1 / (1 - q)`,
-//! q the largest recent ratio of consecutive changes, below tol / 4.
+//! q the largest recent ratio of consecutive changes, below tol / 4; or a
+//! bound s that reproduces itself exactly (its outer error is nil, the
+//! estimate is the last Tresca solve's).
 
 use super::anderson::Anderson;
 use super::stopping::StopRule;
@@ -167,10 +169,14 @@ pub fn cf_fp<C: Communicator>(
             });
             break; // a Tresca solve that cannot converge: the fixed point cannot either
         }
+        // s reproduced itself bit for bit (a zero friction coefficient,
+        // nothing touching, a converged stick state): the last Tresca
+        // solution is the Coulomb one, within its own estimate.
+        let exact = !paper && out.fp_change == 0.0 && m > 0;
         let done = if paper {
             out.fp_change < fp_rtol
         } else {
-            estimate <= 0.25 * ctl.lambda_rtol || (out.fp_change == 0.0 && m > 0)
+            estimate <= 0.25 * ctl.lambda_rtol || exact
         };
         // The last Tresca solve at round-off: its estimate within the
         // outer target.
@@ -178,6 +184,12 @@ pub fn cf_fp<C: Communicator>(
             || out.last.roundoff && out.last.error_estimate <= 0.25 * ctl.lambda_rtol;
         if done && full_tolerance && last_ok {
             out.converged = true;
+            if exact {
+                // The outer error is nil; the changes of lambda between
+                // Tresca solves (of one bound at tightening tolerances)
+                // measure the inner ones, and gave inf to a converged run.
+                out.fp_error_estimate = 0.0;
+            }
             break;
         }
         outer_step(world, outer.as_mut(), &mut s, &mut next);
