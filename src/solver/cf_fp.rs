@@ -137,17 +137,7 @@ pub fn cf_fp<C: Communicator>(
             estimate = outer_estimate(world, d, st, &mut prev, &mut changes);
             out.fp_error_estimate = estimate;
         }
-        crate::progress::tick(|| {
-            let change = if out.fp_change.is_finite() {
-                format!("{:.2e}", out.fp_change)
-            } else {
-                "not yet known".into()
-            };
-            format!(
-                "CF-FP fixed-point iteration {m}: change of s {change}, {} nodes in contact",
-                run.contact
-            )
-        });
+        progress(m, out.fp_change, run.contact);
         if root && ctl.monitor {
             monitor(m, &run, &inner, paper, out.fp_change, estimate);
         }
@@ -365,6 +355,18 @@ fn outer_estimate<C: Communicator>(
     }
     *prev = Some((ln.clone(), lt.clone()));
     estimate
+}
+
+/// The progress line of fixed-point iteration m (every few seconds).
+fn progress(m: usize, fp_change: f64, contact: usize) {
+    crate::progress::tick(|| {
+        let change = if fp_change.is_finite() {
+            format!("{fp_change:.2e}")
+        } else {
+            "not yet known".into()
+        };
+        format!("CF-FP fixed-point iteration {m}: change of s {change}, {contact} nodes in contact")
+    });
 }
 
 /// The monitor's line of fixed-point iteration m (`-ubr_monitor`).
