@@ -186,6 +186,7 @@ pub fn locking_warning(nu: [f64; 2], mesh: &LocalMesh, settings: &Settings) -> O
         2.0 * nu[0] / (1.0 - 2.0 * nu[0])
     ))
 }
+
 /// The material of local cell `c` (the global one before [`resolve`]).
 pub fn of_cell(mesh: &LocalMesh, settings: &Settings, c: usize) -> Material {
     match mesh.materials.list.get(mesh.materials.index(c)) {

@@ -34,8 +34,9 @@ pub struct Expanded {
     pub env: Option<String>,
     /// Every options file read, as named.
     pub files: Vec<String>,
-    /// The options the command line (its files expanded) gives twice with
-    /// different values, one warning each: the later one wins.
+    /// The warnings of the overrides a user probably did not mean (an
+    /// options file over a value the command line gave before it, one file
+    /// giving an option twice); PETSc takes the later value.
     pub overridden: Vec<String>,
 }
 
