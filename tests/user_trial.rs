@@ -352,46 +352,67 @@ fn probably_wrong_set_ups_warn() {
             point,
         ]
     };
-    let cases: [(&[&str], &str); 6] = [
-        // The contact direction pointing away from the plane obstacle.
+    let top = [
+        "-dirichlet_left",
+        "ux=0",
+        "-traction_top",
+        "0,-5",
+        "-contact_surface",
+        "top",
+    ];
+    let cases: [(&[&str], &[&str]); 7] = [
+        // The contact direction pointing away from the plane obstacle: the
+        // base faces away from it, and nothing touches.
         (
             &["-dirichlet_top", "ux=0,uy=-0.01", "-contact_direction", "0,1"],
-            "no node is in contact, and the obstacle lies behind the body along the contact direction n",
+            &[
+                "contact surface 'base' faces away from the obstacle: on 100% of its area its outward normal points against the contact direction n = (0,1)",
+                "no node is in contact, and the obstacle lies behind the body along the contact direction n",
+            ],
+        ),
+        // The top named as the contact surface of a block on the floor: it
+        // was moved down through the floor rigidly until its top touched,
+        // without a word.
+        (
+            &top,
+            &["contact surface 'top' faces away from the obstacle: on 100% of its area"],
         ),
         // A Dirichlet condition on the contact surface.
         (
             &["-dirichlet_top", "ux=0,uy=-0.01", "-dirichlet_base", "uy=0"],
-            "-dirichlet_base prescribes the displacement along the contact direction n at 21 contact candidates of 'base'",
+            &["-dirichlet_base prescribes the displacement along the contact direction n at 21 contact candidates of 'base'"],
         ),
         // A traction on a Dirichlet group.
         (
             &["-dirichlet_top", "ux=0,uy=-0.01", "-traction_top", "0,-5"],
-            "-traction_top acts on uy, which a Dirichlet condition prescribes at 21 of its 21 nodes",
+            &["-traction_top acts on uy, which a Dirichlet condition prescribes at 21 of its 21 nodes"],
         ),
         // A push of 150% strain: the deformed shape inverts.
         (
             &["-dirichlet_top", "ux=0,uy=-1.5"],
-            "elements invert in the deformed shape x + u",
+            &["elements invert in the deformed shape x + u"],
         ),
         // 10% strain: beyond small deformations.
         (
             &["-dirichlet_top", "ux=0,uy=-0.1"],
-            "(above 5%): the model is linear elasticity, for small deformations",
+            &["(above 5%): the model is linear elasticity, for small deformations"],
         ),
         // The plane 0.15 above the base (7.5% of the block's length): the
         // block starts deep inside the obstacle (it is lifted out rigidly,
         // without strain, and ran without a word).
         (
             &floating("0,0.15"),
-            "21 of 21 contact candidates start inside the obstacle (or behind their master surface), by up to 1.5000e-1, 8% of the mesh's largest extent 2.0000e0",
+            &["21 of 21 contact candidates start inside the obstacle (or behind their master surface), by up to 1.5000e-1, 8% of the mesh's largest extent 2.0000e0"],
         ),
     ];
     for (extra, expected) in cases {
         let run = mpirun(2, &block(&mesh, extra));
         ok(&run);
         let w = warnings(&run);
-        assert_eq!(w.len(), 1, "{extra:?}: {}", run.stderr);
-        assert!(w[0].contains(expected), "{extra:?}: {}", w[0]);
+        assert_eq!(w.len(), expected.len(), "{extra:?}: {}", run.stderr);
+        for (w, e) in w.iter().zip(expected) {
+            assert!(w.contains(e), "{extra:?}: {w}");
+        }
     }
     // The correct set-up warns of nothing, nor does a penetration of 4.5%
     // of the length (an interference fit is far below it).
