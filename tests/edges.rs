@@ -17,6 +17,8 @@
 //! - A mesh that Gmsh partitioned (`-part N`, MSH 4.1, ASCII or binary, with
 //!   or without ghost cells) reads as the same mesh unpartitioned: it was
 //!   refused ("partitioned meshes are not supported").
+//! - A contact surface that faces away from the obstacle (the block's top
+//!   named for its bottom) is warned of in 3D too.
 
 mod common;
 use common::*;
@@ -504,6 +506,41 @@ fn gmsh_partitioned_files_read_whole() {
                 "{name} on {ranks} ranks: stress gap {gap:.3e}\n{}",
                 r.stdout
             );
+        }
+    }
+}
+
+/// The 3D resting block (tetrahedra) with its top named as the contact
+/// surface, n = (0,0,-1) toward the floor below its bottom: the top faces
+/// away from the obstacle and is warned of, on 1 and 2 ranks (the floating
+/// block was moved through the floor rigidly, without a word); its bottom
+/// is not.
+#[test]
+fn contact_surface_facing_away_3d() {
+    let (_dir, msh) = mesh("facing3d", "block3d", 3);
+    for (surface, ranks, warned) in [("top", 1, true), ("top", 2, true), ("bottom", 2, false)] {
+        let mut args = block_args(&msh, 3, false, 0.0);
+        let i = args.iter().position(|a| a == "bottom").unwrap();
+        args[i] = surface.to_string();
+        let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+        let run = mpirun(ranks, &a);
+        assert_eq!(run.status, Some(0), "{}\n{}", run.stdout, run.stderr);
+        let lines: Vec<&str> = run
+            .stderr
+            .lines()
+            .filter(|l| l.contains("faces away"))
+            .collect();
+        if warned {
+            assert_eq!(lines.len(), 1, "{}", run.stderr);
+            assert!(
+                lines[0].contains(
+                    "contact surface 'top' faces away from the obstacle: on 100% of its area"
+                ) && lines[0].contains("n = (0,0,-1)"),
+                "{}",
+                lines[0]
+            );
+        } else {
+            assert!(lines.is_empty(), "{}", run.stderr);
         }
     }
 }
