@@ -696,8 +696,8 @@ fn two_contact_surfaces_agree_with_their_union() {
 /// Gmsh's physical names may hold spaces, an option's name cannot: an
 /// option names "Top Edge" as `Top_Edge` (or the value of `-contact_surface`
 /// as "Base Edge" too). The block with spaced names gives the answer of its
-/// plain names (contact CSV byte for byte, 1 rank; 2 ranks to 1e-9), Dirichlet,
-/// traction, contact and material options alike; a wrong name's error says
+/// plain names (contact CSV byte for byte, 1 rank; 2 ranks to 1e-9), its
+/// Dirichlet, contact and material options alike; a wrong name's error says
 /// how spaces are written. Before, such a group could not be named.
 #[test]
 fn group_names_with_spaces() {
