@@ -588,8 +588,9 @@ pub fn setup_warnings<C: Communicator>(
     out.extend(penetration_warning(world, local, cs));
     if let Some(contact) = &settings.contact {
         if cs.uniform && cs.direction.len() == d {
+            let cells_of = fem::loads::cells_around(local);
             for name in &contact.surfaces {
-                out.extend(facing_warning(world, local, name, &cs.direction));
+                out.extend(facing_warning(world, local, &cells_of, name, &cs.direction));
             }
         }
     }
@@ -606,67 +607,27 @@ pub fn setup_warnings<C: Communicator>(
 fn facing_warning<C: Communicator>(
     world: &C,
     local: &LocalMesh,
+    cells_of: &std::collections::HashMap<usize, Vec<usize>>,
     name: &str,
     n: &[f64],
 ) -> Option<String> {
-    let d = local.dim;
-    let group = local.group(name).filter(|g| g.dim + 1 == d)?;
-    // The cells at the group's nodes.
-    let mut cells_at: std::collections::HashMap<usize, Vec<usize>> = group
-        .conn
-        .nodes()
-        .iter()
-        .map(|&v| (v, Vec::new()))
-        .collect();
-    for (c, cell) in local.cells.iter().enumerate() {
-        for v in cell {
-            if let Some(list) = cells_at.get_mut(v) {
-                list.push(c);
-            }
-        }
-    }
+    let group = local.group(name).filter(|g| g.dim + 1 == local.dim)?;
     let (mut away, mut total) = (0.0, 0.0);
+    let mut weights = Vec::with_capacity(4);
     for f in &group.conn {
         let low = f.iter().min_by_key(|&&v| local.node_global[v]);
         if !low.is_some_and(|&v| local.is_owned(v)) {
             continue;
         }
-        let Some(&c) = cells_at[&f[0]]
-            .iter()
-            .find(|&&c| f.iter().all(|v| local.cells.get(c).contains(v)))
-        else {
+        let Some(cell) = fem::loads::facet_cell(local, cells_of, f) else {
             continue;
         };
-        let x = |v: usize, k: usize| local.x(v)[k];
-        let mut normal = [0.0; 3];
-        if d == 2 {
-            normal[0] = x(f[1], 1) - x(f[0], 1);
-            normal[1] = x(f[0], 0) - x(f[1], 0);
-        } else {
-            // Half the cross product of the diagonals (a triangle: of two sides).
-            let (a, b) = if f.len() == 4 {
-                ((0, 2), (1, 3))
-            } else {
-                ((0, 1), (0, 2))
-            };
-            let e = |(i, j): (usize, usize), k| x(f[j], k) - x(f[i], k);
-            for (k, nk) in normal.iter_mut().enumerate() {
-                let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
-                *nk = 0.5 * (e(a, k1) * e(b, k2) - e(a, k2) * e(b, k1));
-            }
-        }
-        let cell = local.cells.get(c);
-        let inward: f64 = (0..d)
-            .map(|k| {
-                let centre = cell.iter().map(|&v| x(v, k)).sum::<f64>() / cell.len() as f64;
-                let mid = f.iter().map(|&v| x(v, k)).sum::<f64>() / f.len() as f64;
-                normal[k] * (centre - mid)
-            })
-            .sum();
-        let size = normal[..d].iter().map(|v| v * v).sum::<f64>().sqrt();
-        let along: f64 = (0..d).map(|k| normal[k] * n[k]).sum::<f64>() * -inward.signum();
+        let outward = fem::loads::outward_normal(local, f, cell);
+        let pts: Vec<&[f64]> = f.iter().map(|&v| local.x(v)).collect();
+        crate::element::facet_weights(&pts, &mut weights);
+        let size: f64 = weights.iter().sum();
         total += size;
-        if along < -0.1 * size {
+        if outward.iter().zip(n).map(|(a, b)| a * b).sum::<f64>() < -0.1 {
             away += size;
         }
     }

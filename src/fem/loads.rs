@@ -113,6 +113,49 @@ fn centroid<'a>(dim: usize, pts: impl ExactSizeIterator<Item = &'a [f64]>) -> Ve
     c
 }
 
+/// The local cells around each local node (every cell of an owned node).
+pub fn cells_around(mesh: &LocalMesh) -> HashMap<usize, Vec<usize>> {
+    let mut cells_of: HashMap<usize, Vec<usize>> = HashMap::new();
+    for (c, cell) in mesh.cells.iter().enumerate() {
+        for &v in cell {
+            cells_of.entry(v).or_default().push(c);
+        }
+    }
+    cells_of
+}
+
+/// The cell that facet `e` (local nodes) bounds, from [`cells_around`].
+pub fn facet_cell(
+    mesh: &LocalMesh,
+    cells_of: &HashMap<usize, Vec<usize>>,
+    e: &[usize],
+) -> Option<usize> {
+    cells_of.get(e.first()?).and_then(|cs| {
+        cs.iter()
+            .copied()
+            .find(|&c| e.iter().all(|v| mesh.cells.get(c).contains(v)))
+    })
+}
+
+/// The unit normal of facet `e`, outward of `cell` (away from its centroid).
+pub fn outward_normal(mesh: &LocalMesh, e: &[usize], cell: usize) -> Vec<f64> {
+    let d = mesh.dim;
+    let pts: Vec<&[f64]> = e.iter().map(|&v| mesh.x(v)).collect();
+    let mut nu = facet_normal(&pts);
+    let fc = centroid(d, pts.iter().copied());
+    let cc = centroid(d, mesh.cells.get(cell).iter().map(|&v| mesh.x(v)));
+    if nu
+        .iter()
+        .zip(fc.iter().zip(&cc))
+        .map(|(n, (a, b))| n * (a - b))
+        .sum::<f64>()
+        < 0.0
+    {
+        nu.iter_mut().for_each(|v| *v = -*v);
+    }
+    nu
+}
+
 /// Adds the pressures `-pressure_NAME P` to `f`: on each facet of the group
 /// the force `-P nu |F|` (nu the body's outward normal there, taken away
 /// from the cell the facet bounds), shared among its vertices like a traction.
@@ -121,13 +164,7 @@ fn pressure_load(mesh: &LocalMesh, settings: &Settings, f: &mut [f64]) -> Result
         return Ok(());
     }
     let d = mesh.dim;
-    // The cells around each node (local cells: every cell of an owned node).
-    let mut cells_of: HashMap<usize, Vec<usize>> = HashMap::new();
-    for (c, cell) in mesh.cells.iter().enumerate() {
-        for &v in cell {
-            cells_of.entry(v).or_default().push(c);
-        }
-    }
+    let cells_of = cells_around(mesh);
     for p in &settings.pressure {
         let option = format!("-pressure_{}", p.group);
         let group = mesh.group_for(&option, &p.group, d - 1..=d - 1, "a pressure")?;
@@ -136,10 +173,7 @@ fn pressure_load(mesh: &LocalMesh, settings: &Settings, f: &mut [f64]) -> Result
             if !e.iter().any(|&v| mesh.is_owned(v)) {
                 continue;
             }
-            let Some(&cell) = cells_of.get(&e[0]).and_then(|cs| {
-                cs.iter()
-                    .find(|&&c| e.iter().all(|v| mesh.cells.get(c).contains(v)))
-            }) else {
+            let Some(cell) = facet_cell(mesh, &cells_of, e) else {
                 return bad(format!(
                     "option {option}: a facet of group '{}' (nodes {}) bounds no cell of the mesh",
                     p.group,
@@ -150,18 +184,7 @@ fn pressure_load(mesh: &LocalMesh, settings: &Settings, f: &mut [f64]) -> Result
                 ));
             };
             let pts: Vec<&[f64]> = e.iter().map(|&v| mesh.x(v)).collect();
-            let mut nu = facet_normal(&pts);
-            let fc = centroid(d, pts.iter().copied());
-            let cc = centroid(d, mesh.cells.get(cell).iter().map(|&v| mesh.x(v)));
-            if nu
-                .iter()
-                .zip(fc.iter().zip(&cc))
-                .map(|(n, (a, b))| n * (a - b))
-                .sum::<f64>()
-                < 0.0
-            {
-                nu.iter_mut().for_each(|v| *v = -*v);
-            }
+            let nu = outward_normal(mesh, e, cell);
             element::facet_weights(&pts, &mut weights);
             for (&v, &share) in e.iter().zip(&weights) {
                 if mesh.is_owned(v) {
