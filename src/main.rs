@@ -59,7 +59,7 @@ fn main() {
     if let Some(env) = &expanded.env {
         std::env::set_var("PETSC_OPTIONS", env);
     }
-    files::record(expanded.files, expanded.overridden);
+    files::record(&expanded);
     let code = {
         let petsc = match Petsc::init(world.as_raw(), &expanded.args) {
             Ok(p) => p,

@@ -57,6 +57,63 @@ fn hertz<'a>(extra: &[&'a str]) -> Vec<&'a str> {
     hertz_args("meshes/hertz_442.msh", extra)
 }
 
+/// A shipped options file run from another directory (a scaling study's
+/// scratch directory): its relative paths are the working directory's
+/// (PETSc's rule), and the one-line error says where they are found.
+#[test]
+fn options_file_from_another_directory_says_where_its_paths_are() {
+    let dir = scratch("elsewhere");
+    let root = std::fs::canonicalize(root()).unwrap();
+    let from_root = root.display().to_string();
+    let run_in = |args: &[&str]| {
+        let t = std::time::Instant::now();
+        let (mut cmd, _session) = mpi_command("mpirun");
+        cmd.current_dir(&dir).args(["-n", "2", BIN]).args(args);
+        let out = cmd.output().expect("mpirun runs");
+        Run {
+            status: out.status.code(),
+            stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+            stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+            seconds: t.elapsed().as_secs_f64(),
+        }
+    };
+    let file = |name: &str| root.join("options").join(name).display().to_string();
+    // The included file (options/hertz-coulomb names options/hertz).
+    let run = run_in(&["-options_file", &file("hertz-coulomb")]);
+    let e = run.refused("include", 2, &["-options_file", "'options/hertz'", "line"]);
+    assert!(e.contains(&format!("is in {from_root}: run there")), "{e}");
+    // The mesh the file names, with the options file and its line.
+    let run = run_in(&["-options_file", &file("hertz")]);
+    let e = run.refused(
+        "mesh",
+        2,
+        &["option -mesh", "meshes/hertz_", "options/hertz' line"],
+    );
+    assert!(e.contains(&format!("is in {from_root}: run there")), "{e}");
+    assert!(
+        e.contains(&dir.display().to_string()),
+        "names the working directory: {e}"
+    );
+    // A path found nowhere says only the rule; one the command line gave,
+    // nothing more.
+    let opts = dir.join("scene.opts");
+    std::fs::write(&opts, "-mesh nowhere/m.msh\n").unwrap();
+    let run = run_in(&[
+        "-options_file",
+        &file("hertz"),
+        "-options_file",
+        "scene.opts",
+    ]);
+    let e = run.refused("nowhere", 2, &["nowhere/m.msh", "'scene.opts' line 1"]);
+    assert!(
+        e.contains("relative to the working directory") && !e.contains("run there"),
+        "{e}"
+    );
+    let run = run_in(&["-options_file", &file("hertz"), "-mesh", "nowhere/m.msh"]);
+    let e = run.refused("command line", 2, &["nowhere/m.msh"]);
+    assert!(!e.contains("named in"), "{e}");
+}
+
 #[test]
 fn missing_mesh_file() {
     expect_bad(

@@ -54,16 +54,8 @@ use super::{Cells, Group, Mesh, MeshError};
 use std::collections::hash_map::Entry;
 use std::collections::{HashMap, HashSet};
 use std::fmt;
-use std::path::Path;
 
 type Res<T> = Result<T, MeshError>;
-
-/// Reads and parses the Gmsh file at `path` (see [`parse_gmsh`]).
-pub fn read_gmsh(path: &Path) -> Result<Mesh, MeshError> {
-    let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| MeshError(format!("{name}: cannot read: {e}")))?;
-    parse_gmsh(&bytes, &name)
-}
 
 /// Parses the bytes of a Gmsh file; `file_name` is only used in error messages.
 pub fn parse_gmsh(bytes: &[u8], file_name: &str) -> Result<Mesh, MeshError> {

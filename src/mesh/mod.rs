@@ -612,7 +612,11 @@ pub fn load(source: &MeshSource) -> Result<Mesh, Error> {
             progress::phase(mb > LARGE_FILE_MB, || {
                 format!("reading {path} ({mb:.0} MB)")
             });
-            gmsh::read_gmsh(std::path::Path::new(path))?
+            let bytes = std::fs::read(path).map_err(|e| {
+                let hint = crate::options::files::path_hint("-mesh", path);
+                MeshError(format!("option -mesh: cannot read '{path}': {e}{hint}"))
+            })?;
+            gmsh::parse_gmsh(&bytes, path)?
         }
         MeshSource::Generate { name, h, q1 } => {
             let nodes = match (name.as_str(), q1) {

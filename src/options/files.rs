@@ -38,16 +38,64 @@ pub struct Expanded {
     /// options file over a value the command line gave before it, one file
     /// giving an option twice); PETSc takes the later value.
     pub overridden: Vec<String>,
+    /// The options whose last value an options file gave: (name in lower
+    /// case without its dash, file as named, line), for the hint of a
+    /// relative path that is not found ([`path_hint`]).
+    pub origins: Vec<(String, String, usize)>,
 }
 
 static READ: OnceLock<Vec<String>> = OnceLock::new();
 static OVERRIDDEN: OnceLock<Vec<String>> = OnceLock::new();
+static ORIGINS: OnceLock<Vec<(String, String, usize)>> = OnceLock::new();
 
 /// Remembers the options files of the run (for the output checks: no
-/// output may overwrite one) and the options given twice.
-pub fn record(files: Vec<String>, overridden: Vec<String>) {
-    let _ = READ.set(files);
-    let _ = OVERRIDDEN.set(overridden);
+/// output may overwrite one), the options given twice and where the files'
+/// options come from.
+pub fn record(e: &Expanded) {
+    let _ = READ.set(e.files.clone());
+    let _ = OVERRIDDEN.set(e.overridden.clone());
+    let _ = ORIGINS.set(e.origins.clone());
+}
+
+/// The end of the message of a file that option `option` (e.g. `-mesh`)
+/// names as `path` and that cannot be read, where an options file gave it:
+/// relative paths are relative to the working directory (PETSc's rule),
+/// not to the file, so a user who runs a shipped file from another
+/// directory is told where the path is found (empty when the command line
+/// gave it, or the path is absolute).
+pub fn path_hint(option: &str, path: &str) -> String {
+    let lower = option.trim_start_matches('-').to_ascii_lowercase();
+    let origin = ORIGINS
+        .get()
+        .and_then(|o| o.iter().find(|(k, _, _)| *k == lower));
+    match origin {
+        Some((_, file, line)) => hint_from(&format!("'{file}' line {line}"), file, path),
+        None => String::new(),
+    }
+}
+
+/// [`path_hint`] for `path` named at `from` (a file's line) in `file`:
+/// where `path` is found from the file's directory or one above it.
+fn hint_from(from: &str, file: &str, path: &str) -> String {
+    let p = Path::new(path);
+    if p.is_absolute() || p.exists() {
+        return String::new();
+    }
+    let cwd = std::env::current_dir().map_or_else(|_| ".".into(), |d| d.display().to_string());
+    let start = std::fs::canonicalize(file).ok();
+    let found = start
+        .as_deref()
+        .and_then(Path::parent)
+        .into_iter()
+        .flat_map(Path::ancestors)
+        .find(|d| d.join(p).exists());
+    match found {
+        Some(d) => format!(
+            " (named in {from}; paths are relative to the working directory, {cwd}; '{path}' is in {}: run there)",
+            d.display()
+        ),
+        None => format!(" (named in {from}; paths are relative to the working directory, {cwd})"),
+    }
 }
 
 /// The warnings of options given twice with different values (empty
@@ -101,11 +149,16 @@ pub fn expand(args: &[String], env: Option<&str>, petscrc: &[PathBuf]) -> Result
         }
     }
     let overridden = w.overrides();
+    let mut origins: Vec<_> = (w.seen.iter())
+        .filter_map(|(k, g)| Some((k.clone(), g.file.clone()?, g.line)))
+        .collect();
+    origins.sort();
     Ok(Expanded {
         args: out,
         env,
         files: w.files,
         overridden,
+        origins,
     })
 }
 
@@ -413,7 +466,16 @@ impl Walker {
         }
         let path = name.strip_suffix(":yaml").unwrap_or(name);
         let cannot = |e: std::io::Error| {
-            format!("option -options_file: cannot read '{name}' (named in {from}): {e}")
+            let hint = match self.stack.last() {
+                Some((_, file)) => hint_from(from, file, path),
+                None => String::new(),
+            };
+            match hint.is_empty() {
+                true => {
+                    format!("option -options_file: cannot read '{name}' (named in {from}): {e}")
+                }
+                false => format!("option -options_file: cannot read '{name}': {e}{hint}"),
+            }
         };
         let canonical = std::fs::canonicalize(path).map_err(cannot)?;
         if let Some(at) = self.stack.iter().position(|(c, _)| *c == canonical) {
@@ -522,6 +584,47 @@ mod tests {
     /// option twice), the usual ones are not (the command line or an
     /// including file over a file's option), and only an option's last
     /// override counts.
+    #[test]
+    fn origins_and_where_a_relative_path_is() {
+        let d = dir("origins");
+        std::fs::create_dir_all(d.join("opts").join("deep")).unwrap();
+        std::fs::write(d.join("m.msh"), "").unwrap();
+        let scene = d.join("opts").join("deep").join("scene");
+        std::fs::write(&scene, "-E 1\n-Mesh m.msh\n").unwrap();
+        let sc = scene.display().to_string();
+        let origins = |args: &[&str]| {
+            let mut a = s(&["prog", "-options_file", &sc]);
+            a.extend(s(args));
+            expand(&a, None, &[]).unwrap().origins
+        };
+        let o = origins(&["-nu", "0.3"]);
+        assert_eq!(
+            o,
+            [("e".into(), sc.clone(), 1), ("mesh".into(), sc.clone(), 2)]
+        );
+        // The command line's later word is not the file's.
+        assert_eq!(origins(&["-mesh", "x"]), [("e".into(), sc.clone(), 1)]);
+        // m.msh is found two directories above the file.
+        let h = hint_from("'scene' line 2", &sc, "m.msh");
+        let base = std::fs::canonicalize(&d).unwrap();
+        assert!(
+            h.ends_with(&format!("'m.msh' is in {}: run there)", base.display())),
+            "{h}"
+        );
+        assert!(
+            h.starts_with(" (named in 'scene' line 2; paths are relative"),
+            "{h}"
+        );
+        let h = hint_from("'scene' line 2", &sc, "nowhere.msh");
+        assert!(
+            !h.contains("run there") && h.contains("working directory"),
+            "{h}"
+        );
+        // An absolute path or one found here: nothing to add.
+        assert_eq!(hint_from("x", &sc, &sc), "");
+        assert_eq!(hint_from("x", &sc, "Cargo.toml"), "");
+    }
+
     #[test]
     fn surprising_overrides_are_named() {
         let d = dir("overrides");

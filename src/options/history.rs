@@ -123,8 +123,12 @@ pub fn read(loads: &Loads) -> Result<Option<LoadHistory>, Error> {
             curve: None,
         },
         (None, Some(f)) => {
-            let text = std::fs::read_to_string(&f)
-                .or_else(|e| bad(format!("option -load_history: cannot read '{f}': {e}")))?;
+            let text = std::fs::read_to_string(&f).or_else(|e| {
+                let hint = super::files::path_hint("-load_history", &f);
+                bad(format!(
+                    "option -load_history: cannot read '{f}': {e}{hint}"
+                ))
+            })?;
             parse(&f, &text, loads)?
         }
         (None, None) => {

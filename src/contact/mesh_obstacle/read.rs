@@ -11,8 +11,10 @@ use std::path::Path;
 /// `dim - 1`, or those of physical group `group`).
 pub(super) fn read(path: &Path, dim: usize, group: Option<&str>) -> Result<Surface, Error> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path)
-        .map_err(|e| Error::BadInput(format!("option {OPTION}: cannot read '{file}': {e}")))?;
+    let bytes = std::fs::read(path).map_err(|e| {
+        let hint = crate::options::files::path_hint(OPTION, &file);
+        Error::BadInput(format!("option {OPTION}: cannot read '{file}': {e}{hint}"))
+    })?;
     let start = bytes.iter().position(|c| !c.is_ascii_whitespace());
     let text_start = bytes.get(start.unwrap_or(0)..).unwrap_or(&[]);
     if text_start.starts_with(b"$MeshFormat") {
