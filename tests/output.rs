@@ -153,6 +153,58 @@ fn unwritable_output_is_bad_input_at_once() {
     }
 }
 
+/// A `.pvtu` piece that cannot be written on one rank: a directory in
+/// its place is refused before any work, naming the piece; a piece file
+/// that cannot be replaced (immutable, `chattr +i`, where the file system
+/// allows it) ends the run with the piece and the rank named by rank 0,
+/// no index and no other piece left behind.
+#[test]
+fn pvtu_piece_that_cannot_be_written() {
+    let dir = scratch("pvtu-piece");
+    let pvtu = dir.join("v.pvtu");
+    let run_3 = || {
+        mpirun(
+            3,
+            &[
+                "-options_file",
+                "options/hertz",
+                "-vtk",
+                pvtu.to_str().unwrap(),
+            ],
+        )
+    };
+    std::fs::create_dir(dir.join("v_1.vtu")).unwrap();
+    let e = run_3()
+        .refused(
+            "a directory",
+            2,
+            &["-vtk", "rank 1", "v_1.vtu", "is a directory"],
+        )
+        .to_string();
+    assert!(!e.contains("v_0"), "{e}");
+    std::fs::remove_dir(dir.join("v_1.vtu")).unwrap();
+    let piece = dir.join("v_2.vtu");
+    std::fs::write(&piece, "").unwrap();
+    let immutable = Command::new("chattr").arg("+i").arg(&piece).status();
+    if !immutable.is_ok_and(|s| s.success()) {
+        eprintln!("chattr +i is not available here: the write failure is not tested");
+        return;
+    }
+    let run = run_3();
+    let _ = Command::new("chattr").arg("-i").arg(&piece).status();
+    run.refused(
+        "immutable",
+        2,
+        &["option -vtk", "cannot write", "v_2.vtu", "(on rank 2)"],
+    );
+    let mut left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(left, ["v_2.vtu"], "only the file that was there");
+}
+
 /// A run killed mid-way (SIGTERM) leaves no output file behind, whole or partial.
 #[test]
 fn sigterm_leaves_no_partial_output() {

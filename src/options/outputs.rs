@@ -174,6 +174,9 @@ impl Outputs {
             if kind.opt.name == VTK.name && p.ends_with(".pvtu") {
                 for (r, piece) in pvtu_pieces(p, ranks).into_iter().enumerate() {
                     let label = format!("{} (its piece of rank {r}, '{piece}')", kind.opt.name);
+                    if Path::new(&piece).is_dir() {
+                        return bad(format!("option {label}: '{piece}' is a directory"));
+                    }
                     let id = identity(&piece);
                     written.push((label, piece, id));
                 }

@@ -45,20 +45,33 @@ pub fn write_root_files(m: &Results) -> Result<(), Error> {
     first_error.map_or(Ok(()), Err)
 }
 
-/// Makes a write failure on any rank the failure of all.
+/// Makes a write failure on any rank the failure of all: every rank
+/// returns the error of the lowest rank that failed (its message sent to
+/// the others, so that rank 0 prints the file and the reason), or its own.
 pub fn collective<C: Communicator>(world: &C, outcome: Result<(), Error>) -> Result<(), Error> {
-    let mut failed = 0u8;
-    world.all_reduce_into(
-        &u8::from(outcome.is_err()),
-        &mut failed,
-        SystemOperation::max(),
-    );
+    let size = world.size();
+    let mine = if outcome.is_err() { world.rank() } else { size };
+    let mut first = size;
+    world.all_reduce_into(&mine, &mut first, SystemOperation::min());
+    if first == size {
+        return outcome;
+    }
+    let mut text = match &outcome {
+        Err(e) if world.rank() == first => e.to_string().into_bytes(),
+        _ => Vec::new(),
+    };
+    let root = world.process_at_rank(first);
+    let mut len = text.len() as u64;
+    root.broadcast_into(&mut len);
+    text.resize(len as usize, 0);
+    root.broadcast_into(&mut text[..]);
     match outcome {
         Err(e) => Err(e),
-        Ok(()) if failed > 0 => Err(Error::BadInput(
-            "writing an output file failed on rank 0".into(),
-        )),
-        Ok(()) => Ok(()),
+        Ok(()) => {
+            let text = String::from_utf8_lossy(&text);
+            let message = text.strip_prefix("error: ").unwrap_or(&text);
+            Err(Error::BadInput(format!("{message} (on rank {first})")))
+        }
     }
 }
 
@@ -415,7 +428,19 @@ pub fn write_vtk<C: Communicator>(
         cell_data: cell_fields(&data, &ranks),
     };
     let name = vtk::piece_file_name(&stem, rank as usize);
-    vtk::write_vtu(&dir.join(&name), &piece).map_err(bad_path)?;
+    let own = stem_path.with_file_name(&name);
+    // (The error names the piece.)
+    let written =
+        vtk::write_vtu(&own, &piece).map_err(|e| Error::BadInput(format!("option -vtk: {e}")));
+    // The index only over pieces that are all there; a piece alone is half
+    // an output, and is removed.
+    let wrote = written.is_ok();
+    if let Err(e) = collective(world, written) {
+        if wrote {
+            let _ = std::fs::remove_file(&own);
+        }
+        return Err(e);
+    }
     if rank == 0 {
         let names: Vec<String> = (0..world.size() as usize)
             .map(|r| vtk::piece_file_name(&stem, r))
