@@ -52,6 +52,18 @@ const UPPER: c_char = b'U' as c_char;
 /// each call, mapped on the first such call.
 pub const OPENBLAS_BUFFER: usize = (128 << 20) + (1 << 20);
 
+/// Whether the BLAS of the process is OpenBLAS.
+pub fn openblas() -> bool {
+    extern "C" {
+        fn dlsym(handle: *mut std::ffi::c_void, name: *const c_char) -> *mut std::ffi::c_void;
+    }
+    // RTLD_DEFAULT (glibc: the null handle): is OpenBLAS in the process?
+    let name = c"openblas_get_config";
+    // SAFETY: dlsym reads a NUL-terminated name and returns a pointer that
+    // is only compared with null.
+    !unsafe { dlsym(std::ptr::null_mut(), name.as_ptr()) }.is_null()
+}
+
 /// Maps OpenBLAS' work space now, while the process is small, or says that
 /// it cannot be mapped. OpenBLAS maps its buffer on the first level-3 call
 /// (a MUMPS factorization, LAPACK's Cholesky) and, when `mmap` and `malloc`
@@ -66,15 +78,7 @@ pub const OPENBLAS_BUFFER: usize = (128 << 20) + (1 << 20);
 /// could not be mapped.
 pub fn reserve_blas_workspace() -> Result<(), usize> {
     use std::alloc::{GlobalAlloc, Layout, System};
-    extern "C" {
-        fn dlsym(handle: *mut std::ffi::c_void, name: *const c_char) -> *mut std::ffi::c_void;
-    }
-    // RTLD_DEFAULT (glibc: the null handle): is OpenBLAS in the process?
-    let name = c"openblas_get_config";
-    // SAFETY: dlsym reads a NUL-terminated name and returns a pointer that
-    // is only compared with null.
-    let openblas = !unsafe { dlsym(std::ptr::null_mut(), name.as_ptr()) }.is_null();
-    if !openblas {
+    if !openblas() {
         return Ok(());
     }
     let layout = Layout::from_size_align(OPENBLAS_BUFFER, 4096).expect("a valid layout");

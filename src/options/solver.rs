@@ -71,7 +71,7 @@ fn factorization(pc: Option<&str>, ranks: usize) -> Result<(), Error> {
     let mat = if ranks > 1 { "mpiaij" } else { "seqaij" };
     let found = registry::factorizes(package.as_deref(), mat, factor)?;
     if found == Some(true) {
-        return Ok(());
+        return threads_of(package.as_deref());
     }
     let matrix = if ranks > 1 {
         format!("a matrix distributed over {ranks} ranks ({mat})")
@@ -100,6 +100,27 @@ fn factorization(pc: Option<&str>, ranks: usize) -> Result<(), Error> {
             }
         )),
     }
+}
+
+/// SuperLU_DIST with several OpenMP threads (`OMP_NUM_THREADS` above 1;
+/// the program runs one otherwise, `main::one_openmp_thread`) calls the
+/// BLAS from its threads, and Debian's serial OpenBLAS is not made for
+/// that: its solves were wrong here (hertz2d h 0.1, 2 threads: "moves
+/// without bound" at every run). Refused with OpenBLAS, as MOOSE refuses
+/// it; another BLAS (MKL on a cluster) is the user's to judge.
+fn threads_of(package: Option<&str>) -> Result<(), Error> {
+    let threads = std::env::var("OMP_NUM_THREADS").ok();
+    let many = threads
+        .as_deref()
+        .and_then(|t| t.split(',').next()?.trim().parse::<u32>().ok())
+        .is_some_and(|n| n > 1);
+    if package == Some("superlu_dist") && many && crate::dense::openblas() {
+        return bad(format!(
+            "option -pc_factor_mat_solver_type superlu_dist: OMP_NUM_THREADS={} runs SuperLU_DIST on several OpenMP threads, which call OpenBLAS at once and give wrong solves; set OMP_NUM_THREADS=1 (or unset it: one thread), or use MUMPS",
+            threads.unwrap_or_default()
+        ));
+    }
+    Ok(())
 }
 
 /// PETSc's message of a linear-solver option it could not read, naming the

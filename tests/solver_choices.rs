@@ -1,0 +1,104 @@
+//! Linear-solver choices a user makes through PETSc's options, around the
+//! factorization: each gives the default's answer, or a one-line refusal.
+
+mod common;
+use common::*;
+use std::process::Command;
+
+/// The Hertz scene at the defaults (automatic r, Anderson, the accuracy
+/// stop) on the 1692-node mesh, tighter than the default tolerance so
+/// that the answers compare closely.
+fn hertz(extra: &[&'static str]) -> Vec<&'static str> {
+    let mut v = vec!["-options_file", "options/hertz", "-ubr_lambda_rtol", "1e-7"];
+    v.extend_from_slice(extra);
+    v
+}
+
+/// A Krylov method around the factorization (`-ksp_type gmres`, `cg -pc_type
+/// cholesky`, `richardson`) gets the inexact inner solves of the iterative
+/// solvers, measured against the residual each solve starts from: measured
+/// against the whole load, a solve started from the previous iterate did 0
+/// iterations once UBR changed u by less than a tenth, and UBR stalled
+/// (hertz2d h 0.1: 588 iterations, "not converged", exit 3).
+#[test]
+fn krylov_around_the_factorization_converges() {
+    let (_, _, reference) = solve_rows("default", 1, &hertz(&[]));
+    for (ranks, extra) in [
+        (1, &["-ksp_type", "gmres"][..]),
+        (2, &["-ksp_type", "cg", "-pc_type", "cholesky"][..]),
+        (1, &["-ksp_type", "richardson"][..]),
+        (
+            2,
+            &[
+                "-ksp_type",
+                "gmres",
+                "-pc_type",
+                "lu",
+                "-ubr_mumps_direct",
+                "0",
+            ][..],
+        ),
+    ] {
+        let (run, report, rows) = solve_rows("krylov", ranks, &hertz(extra));
+        assert!(report.converged, "{extra:?}: {}", run.stdout);
+        let gap = max_pressure_gap(&rows, &reference);
+        assert!(
+            gap < 1e-5,
+            "{extra:?} on {ranks} ranks: {gap:.2e} from the default"
+        );
+    }
+}
+
+/// `ubr-petsc` itself (no mpirun, which binds a rank to a core on 2 ranks
+/// and hid it) with SuperLU_DIST: one OpenMP thread unless OMP_NUM_THREADS
+/// asks for more, which with OpenBLAS is refused (its solves were wrong:
+/// "moves without bound" at every run with 2 threads).
+#[test]
+fn superlu_dist_runs_one_thread() {
+    let run = |threads: Option<&str>| {
+        let t = std::time::Instant::now();
+        let (mut cmd, _session) = mpi_command(BIN);
+        cmd.env_remove("OMP_NUM_THREADS");
+        if let Some(n) = threads {
+            cmd.env("OMP_NUM_THREADS", n);
+        }
+        let mut args = hertz(&[
+            "-pc_type",
+            "lu",
+            "-pc_factor_mat_solver_type",
+            "superlu_dist",
+        ]);
+        args.extend(["-mesh", "meshes/hertz_442.msh"]);
+        let out = cmd.args(&args).output().expect("ubr-petsc runs");
+        Run {
+            status: out.status.code(),
+            stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+            stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+            seconds: t.elapsed().as_secs_f64(),
+        }
+    };
+    let cores = Command::new("nproc").output().map_or(1, |o| {
+        String::from_utf8_lossy(&o.stdout)
+            .trim()
+            .parse()
+            .unwrap_or(1)
+    });
+    let unset = run(None);
+    assert_eq!(unset.status, Some(0), "{cores} cores: {}", unset.context());
+    assert!(
+        unset.stdout.contains("converged: estimated error"),
+        "{}",
+        unset.stdout
+    );
+    let two = run(Some("2"));
+    two.refused(
+        "2 threads",
+        2,
+        &[
+            "-pc_factor_mat_solver_type superlu_dist",
+            "OMP_NUM_THREADS=2",
+            "OMP_NUM_THREADS=1",
+        ],
+    );
+    assert_eq!(run(Some("1")).status, Some(0));
+}
