@@ -470,11 +470,10 @@ impl Walker {
                 Some((_, file)) => hint_from(from, file, path),
                 None => String::new(),
             };
-            match hint.is_empty() {
-                true => {
-                    format!("option -options_file: cannot read '{name}' (named in {from}): {e}")
-                }
-                false => format!("option -options_file: cannot read '{name}': {e}{hint}"),
+            if hint.is_empty() {
+                format!("option -options_file: cannot read '{name}' (named in {from}): {e}")
+            } else {
+                format!("option -options_file: cannot read '{name}': {e}{hint}")
             }
         };
         let canonical = std::fs::canonicalize(path).map_err(cannot)?;
@@ -579,11 +578,9 @@ mod tests {
         assert!(split("-mesh \"my dir").is_err());
     }
 
-    /// Overrides the user probably did not mean are named (a file that
-    /// overrides the command line written before it, one file giving an
-    /// option twice), the usual ones are not (the command line or an
-    /// including file over a file's option), and only an option's last
-    /// override counts.
+    /// The options a file gave are remembered with the file and line, and
+    /// a relative path that is not found here is looked for from the file's
+    /// directory upwards.
     #[test]
     fn origins_and_where_a_relative_path_is() {
         let d = dir("origins");
@@ -625,6 +622,11 @@ mod tests {
         assert_eq!(hint_from("x", &sc, "Cargo.toml"), "");
     }
 
+    /// Overrides the user probably did not mean are named (a file that
+    /// overrides the command line written before it, one file giving an
+    /// option twice), the usual ones are not (the command line or an
+    /// including file over a file's option), and only an option's last
+    /// override counts.
     #[test]
     fn surprising_overrides_are_named() {
         let d = dir("overrides");
