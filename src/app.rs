@@ -435,6 +435,10 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         drop(partition_stage);
         let t_partition = t_all.elapsed().as_secs_f64() - t_mesh;
         (self.times.mesh, self.times.partition) = (t_mesh, t_partition);
+        if self.root && mesh::gmsh::periodic_skipped() {
+            // (Rank 0 read the file and writes the report.)
+            self.warn("the mesh file has a $Periodic section, which is ignored: this program ties no periodic boundaries, so the boundaries Gmsh matched move independently (free unless an option holds them)".into());
+        }
         Ok(local)
     }
 

@@ -544,3 +544,32 @@ fn contact_surface_facing_away_3d() {
         }
     }
 }
+
+/// A mesh file with a `$Periodic` section (Gmsh's `Periodic Curve`, MSH
+/// 4.1 and 2.2): the program ties no periodic boundaries, and says so once
+/// (stderr and the report); the same block without it says nothing.
+#[test]
+fn periodic_section_is_named_as_ignored() {
+    let (_d41, periodic) = mesh("periodic", "periodic2d", 2);
+    let (_d22, periodic22) = gmsh_2d("periodic22", "tests/edges/periodic2d.geo");
+    let (_d, plain) = mesh("periodic-plain", "block2d", 2);
+    for (msh, ranks, warned) in [
+        (&periodic, 1, true),
+        (&periodic22, 2, true),
+        (&plain, 2, false),
+    ] {
+        let args = block_args(msh, 2, false, 0.0);
+        let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+        let (run, report, _) = solve_rows("periodic", ranks, &a);
+        let said = |l: &&str| l.contains("$Periodic section, which is ignored");
+        let lines: Vec<&str> = run.stderr.lines().filter(said).collect();
+        let in_report = report.warnings.iter().filter(|w| said(&w.as_str())).count();
+        let expected = usize::from(warned);
+        assert_eq!(
+            (lines.len(), in_report),
+            (expected, expected),
+            "{msh}: {}",
+            run.stderr
+        );
+    }
+}

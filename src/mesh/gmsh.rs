@@ -9,7 +9,8 @@
 //! * Sections: `$MeshFormat`, `$PhysicalNames` (optional), `$Entities` (4.1:
 //!   maps element blocks to physical tags), `$Nodes`, `$Elements`. Other
 //!   sections (`$Periodic`, `$NodeData`, `$Comments`, ...) are skipped up to
-//!   their `$End...` line. A partitioned 4.1 mesh (`$PartitionedEntities`,
+//!   their `$End...` line (a `$Periodic` one is remembered: the run warns
+//!   that it ties no periodic boundaries, [`periodic_skipped`]). A partitioned 4.1 mesh (`$PartitionedEntities`,
 //!   Gmsh's `-part N`) is read whole: its element blocks take their physical
 //!   tags from the partitioned entities, the facets Gmsh adds on the
 //!   interfaces between partitions join no group, and the partition is not
@@ -56,6 +57,16 @@ use std::collections::{HashMap, HashSet};
 use std::fmt;
 
 type Res<T> = Result<T, MeshError>;
+
+/// Whether a file read by this process had a `$Periodic` section, which
+/// the program skips (it applies no periodic conditions).
+static PERIODIC_SKIPPED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether a mesh file read by this process had a `$Periodic` section
+/// (skipped: the boundaries Gmsh matched are not tied).
+pub fn periodic_skipped() -> bool {
+    PERIODIC_SKIPPED.load(std::sync::atomic::Ordering::Relaxed)
+}
 
 /// Parses the bytes of a Gmsh file; `file_name` is only used in error messages.
 pub fn parse_gmsh(bytes: &[u8], file_name: &str) -> Result<Mesh, MeshError> {
@@ -655,6 +666,9 @@ impl<'a> Reader<'a> {
     /// Skips an unknown section `$Name` up to its `$EndName` line.
     fn skip_section(&mut self, at: usize, header: &[u8]) -> Res<()> {
         let name = header.get(1..).unwrap_or(&[]);
+        if name.trim_ascii_end() == b"Periodic" {
+            PERIODIC_SKIPPED.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
         let mut end_marker = b"$End".to_vec();
         end_marker.extend_from_slice(name);
         let mut i = self.pos;
