@@ -250,6 +250,17 @@ fn bad_obstacle_lists_are_refused() {
             ],
             "option -obstacle_a_center: 3 components given, the mesh is 2D",
         ),
+        (
+            vec![
+                "-obstacles",
+                "a",
+                "-obstacle_a",
+                "mesh",
+                "-obstacle_a_mesh",
+                "nowhere/rim.msh",
+            ],
+            "option -obstacle_a_mesh: cannot read 'nowhere/rim.msh'",
+        ),
     ];
     for (extra, needle) in cases {
         for ranks in [1, 2] {

@@ -202,7 +202,10 @@ impl ContactSet {
                     file,
                     group,
                     search,
-                } => Some(read_surface(file, group.as_deref(), *search, d)?),
+                } => Some(
+                    read_surface(file, group.as_deref(), *search, d)
+                        .map_err(|e| of_named(e, settings.named.then_some(o.name.as_str())))?,
+                ),
                 _ => None,
             });
         }
@@ -463,6 +466,17 @@ fn check_dimensions(o: &NamedObstacle, d: usize, single: bool) -> Result<(), Err
             opt("axis")
         )),
         _ => Ok(()),
+    }
+}
+
+/// An error about `-obstacle_mesh` (or `_group`) of obstacle `name` of
+/// `-obstacles`, naming the option the user gave (`-obstacle_NAME_mesh`).
+fn of_named(e: Error, name: Option<&str>) -> Error {
+    match (e, name) {
+        (Error::BadInput(m), Some(name)) => {
+            Error::BadInput(m.replace("-obstacle_mesh", &format!("-obstacle_{name}_mesh")))
+        }
+        (e, _) => e,
     }
 }
 
