@@ -10,8 +10,9 @@
 //!   maps element blocks to physical tags), `$Nodes`, `$Elements`. Other
 //!   sections (`$Periodic`, `$NodeData`, `$Comments`, ...) are skipped up to
 //!   their `$End...` line (a `$Periodic` one is remembered: the run warns
-//!   that it ties no periodic boundaries, [`periodic_skipped`]). A partitioned 4.1 mesh (`$PartitionedEntities`,
-//!   Gmsh's `-part N`) is read whole: its element blocks take their physical
+//!   that it ties no periodic boundaries, [`periodic_skipped`]). A
+//!   partitioned 4.1 mesh (`$PartitionedEntities`, Gmsh's `-part N`) is
+//!   read whole: its element blocks take their physical
 //!   tags from the partitioned entities, the facets Gmsh adds on the
 //!   interfaces between partitions join no group, and the partition is not
 //!   used (ghost cells, in `$GhostElements`, are skipped).
