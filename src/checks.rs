@@ -622,8 +622,8 @@ fn facing_warning<C: Communicator>(
         let Some(cell) = fem::loads::facet_cell(local, cells_of, f) else {
             continue;
         };
-        let outward = fem::loads::outward_normal(local, f, cell);
         let pts: Vec<&[f64]> = f.iter().map(|&v| local.x(v)).collect();
+        let outward = fem::loads::outward_normal(local, &pts, cell);
         crate::element::facet_weights(&pts, &mut weights);
         let size: f64 = weights.iter().sum();
         total += size;

@@ -137,11 +137,11 @@ pub fn facet_cell(
     })
 }
 
-/// The unit normal of facet `e`, outward of `cell` (away from its centroid).
-pub fn outward_normal(mesh: &LocalMesh, e: &[usize], cell: usize) -> Vec<f64> {
+/// The unit normal of the facet with vertices `pts`, outward of `cell`
+/// (away from its centroid).
+pub fn outward_normal(mesh: &LocalMesh, pts: &[&[f64]], cell: usize) -> Vec<f64> {
     let d = mesh.dim;
-    let pts: Vec<&[f64]> = e.iter().map(|&v| mesh.x(v)).collect();
-    let mut nu = facet_normal(&pts);
+    let mut nu = facet_normal(pts);
     let fc = centroid(d, pts.iter().copied());
     let cc = centroid(d, mesh.cells.get(cell).iter().map(|&v| mesh.x(v)));
     if nu
@@ -184,7 +184,7 @@ fn pressure_load(mesh: &LocalMesh, settings: &Settings, f: &mut [f64]) -> Result
                 ));
             };
             let pts: Vec<&[f64]> = e.iter().map(|&v| mesh.x(v)).collect();
-            let nu = outward_normal(mesh, e, cell);
+            let nu = outward_normal(mesh, &pts, cell);
             element::facet_weights(&pts, &mut weights);
             for (&v, &share) in e.iter().zip(&weights) {
                 if mesh.is_owned(v) {
