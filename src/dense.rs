@@ -52,16 +52,43 @@ const UPPER: c_char = b'U' as c_char;
 /// each call, mapped on the first such call.
 pub const OPENBLAS_BUFFER: usize = (128 << 20) + (1 << 20);
 
-/// Whether the BLAS of the process is OpenBLAS.
-pub fn openblas() -> bool {
+/// The address of symbol `name` among the libraries the process loaded
+/// (RTLD_DEFAULT, glibc's null handle), or null.
+fn loaded_symbol(name: &std::ffi::CStr) -> *mut std::ffi::c_void {
     extern "C" {
         fn dlsym(handle: *mut std::ffi::c_void, name: *const c_char) -> *mut std::ffi::c_void;
     }
-    // RTLD_DEFAULT (glibc: the null handle): is OpenBLAS in the process?
-    let name = c"openblas_get_config";
-    // SAFETY: dlsym reads a NUL-terminated name and returns a pointer that
-    // is only compared with null.
-    !unsafe { dlsym(std::ptr::null_mut(), name.as_ptr()) }.is_null()
+    // SAFETY: dlsym reads a NUL-terminated name and returns an address or
+    // null, which the callers check before any use.
+    unsafe { dlsym(std::ptr::null_mut(), name.as_ptr()) }
+}
+
+/// Whether the BLAS of the process is OpenBLAS.
+pub fn openblas() -> bool {
+    !loaded_symbol(c"openblas_get_config").is_null()
+}
+
+/// One OpenMP thread per rank unless `OMP_NUM_THREADS` says otherwise.
+/// Debian's SuperLU_DIST (`-pc_factor_mat_solver_type superlu_dist`, which
+/// PETSc loads with OpenMP's runtime) runs a thread per core it may use,
+/// and its solves with more than one were wrong here (hertz2d h 0.1, one
+/// rank, 2 threads: UBR "moves without bound" at every run, LU or
+/// Cholesky; one thread: the answer of MUMPS): its threads call the serial
+/// OpenBLAS at once. `mpirun` binding each rank to one core hid it on 2
+/// ranks; started without mpirun, or at 3 ranks and more (bound to a
+/// socket), every rank ran a thread per core, on cores the other ranks use
+/// too. The runtime read the variable when it loaded, so the count is set
+/// through its call (found in the process, if loaded at all).
+pub fn one_openmp_thread() {
+    if std::env::var_os("OMP_NUM_THREADS").is_some() {
+        return;
+    }
+    let f = loaded_symbol(c"omp_set_num_threads");
+    if !f.is_null() {
+        // SAFETY: the address of OpenMP's `void omp_set_num_threads(int)`.
+        let set: extern "C" fn(c_int) = unsafe { std::mem::transmute(f) };
+        set(1);
+    }
 }
 
 /// Maps OpenBLAS' work space now, while the process is small, or says that

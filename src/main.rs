@@ -22,37 +22,6 @@ fn options_files<C: Communicator>(world: &C) -> Result<Expanded, String> {
     serde_json::from_slice(&bytes).expect("rank 0 sent an outcome")
 }
 
-/// One OpenMP thread per rank unless `OMP_NUM_THREADS` says otherwise.
-/// Debian's SuperLU_DIST (`-pc_factor_mat_solver_type superlu_dist`, which
-/// PETSc loads with OpenMP's runtime) runs a thread per core it may use,
-/// and its solves with more than one were wrong here (hertz2d h 0.1, one
-/// rank, 2 threads: UBR "moves without bound" at every run, LU or
-/// Cholesky; one thread: the answer of MUMPS). `mpirun` binding each rank
-/// to one core hid it on 2 ranks; started without mpirun, or at 3 ranks
-/// and more (bound to a socket), every rank ran a thread per core, on
-/// cores the other ranks use too. The runtime read the variable when it
-/// loaded, so the count is set through its call (found in the process, if
-/// loaded at all).
-fn one_openmp_thread() {
-    if std::env::var_os("OMP_NUM_THREADS").is_some() {
-        return;
-    }
-    extern "C" {
-        fn dlsym(
-            handle: *mut std::ffi::c_void,
-            name: *const std::ffi::c_char,
-        ) -> *mut std::ffi::c_void;
-    }
-    // SAFETY: dlsym (RTLD_DEFAULT: the null handle) reads a NUL-terminated
-    // name and returns the symbol's address or null.
-    let f = unsafe { dlsym(std::ptr::null_mut(), c"omp_set_num_threads".as_ptr()) };
-    if !f.is_null() {
-        // SAFETY: the address of OpenMP's `void omp_set_num_threads(int)`.
-        let set: extern "C" fn(std::ffi::c_int) = unsafe { std::mem::transmute(f) };
-        set(1);
-    }
-}
-
 fn main() {
     // PT-Scotch (`-partition ptscotch`) runs threads of its own by default,
     // and its threaded algorithms give another partition at every run
@@ -63,7 +32,7 @@ fn main() {
     if std::env::var_os("SCOTCH_PTHREAD_NUMBER").is_none() {
         std::env::set_var("SCOTCH_PTHREAD_NUMBER", "1");
     }
-    one_openmp_thread();
+    ubr_petsc::dense::one_openmp_thread();
     let Some(universe) = mpi::initialize() else {
         eprintln!("error: MPI could not be initialized");
         std::process::exit(1);

@@ -103,7 +103,7 @@ fn factorization(pc: Option<&str>, ranks: usize) -> Result<(), Error> {
 }
 
 /// SuperLU_DIST with several OpenMP threads (`OMP_NUM_THREADS` above 1;
-/// the program runs one otherwise, `main::one_openmp_thread`) calls the
+/// the program runs one otherwise, [`crate::dense::one_openmp_thread`]) calls the
 /// BLAS from its threads, and Debian's serial OpenBLAS is not made for
 /// that: its solves were wrong here (hertz2d h 0.1, 2 threads: "moves
 /// without bound" at every run). Refused with OpenBLAS, as MOOSE refuses
