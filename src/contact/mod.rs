@@ -469,12 +469,15 @@ fn check_dimensions(o: &NamedObstacle, d: usize, single: bool) -> Result<(), Err
     }
 }
 
-/// An error about `-obstacle_mesh` (or `_group`) of obstacle `name` of
-/// `-obstacles`, naming the option the user gave (`-obstacle_NAME_mesh`).
+/// An error of the surface reader ("option -obstacle_mesh: ...") about
+/// obstacle `name` of `-obstacles`, naming the option the user gave
+/// (`-obstacle_NAME_mesh`); only the message's head changes, not a path
+/// that may hold the same words.
 fn of_named(e: Error, name: Option<&str>) -> Error {
+    const HEAD: &str = "option -obstacle_mesh";
     match (e, name) {
-        (Error::BadInput(m), Some(name)) => {
-            Error::BadInput(m.replace("-obstacle_mesh", &format!("-obstacle_{name}_mesh")))
+        (Error::BadInput(m), Some(name)) if m.starts_with(HEAD) => {
+            Error::BadInput(format!("option -obstacle_{name}_mesh{}", &m[HEAD.len()..]))
         }
         (e, _) => e,
     }
