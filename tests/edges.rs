@@ -257,11 +257,7 @@ fn touching_parts_are_named() {
             let a: Vec<&str> = a.iter().map(|s| s.as_str()).collect();
             let run = mpirun(ranks, &a);
             assert_eq!(run.status, Some(0), "{}\n{}", run.stdout, run.stderr);
-            let lines: Vec<&str> = run
-                .stderr
-                .lines()
-                .filter(|l| l.contains("contact between bodies is not modelled"))
-                .collect();
+            let lines = run.stderr_with("contact between bodies is not modelled");
             match needle {
                 Some(n) => {
                     assert_eq!(lines.len(), 1, "gap {gap}: {}", run.stderr);
@@ -525,11 +521,7 @@ fn contact_surface_facing_away_3d() {
         let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
         let run = mpirun(ranks, &a);
         assert_eq!(run.status, Some(0), "{}\n{}", run.stdout, run.stderr);
-        let lines: Vec<&str> = run
-            .stderr
-            .lines()
-            .filter(|l| l.contains("faces away"))
-            .collect();
+        let lines = run.stderr_with("faces away");
         if warned {
             assert_eq!(lines.len(), 1, "{}", run.stderr);
             assert!(
@@ -561,9 +553,9 @@ fn periodic_section_is_named_as_ignored() {
         let args = block_args(msh, 2, false, 0.0);
         let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
         let (run, report, _) = solve_rows("periodic", ranks, &a);
-        let said = |l: &&str| l.contains("$Periodic section, which is ignored");
-        let lines: Vec<&str> = run.stderr.lines().filter(said).collect();
-        let in_report = report.warnings.iter().filter(|w| said(&w.as_str())).count();
+        let said = "$Periodic section, which is ignored";
+        let lines = run.stderr_with(said);
+        let in_report = report.warnings.iter().filter(|w| w.contains(said)).count();
         let expected = usize::from(warned);
         assert_eq!(
             (lines.len(), in_report),

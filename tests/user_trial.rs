@@ -143,11 +143,7 @@ fn ok(run: &Run) {
 /// The one error line of a bad-input run (exit status 2).
 fn error_line(run: &Run) -> String {
     assert_eq!(run.status, Some(2), "{}\n{}", run.stdout, run.stderr);
-    let lines: Vec<&str> = run
-        .stderr
-        .lines()
-        .filter(|l| l.starts_with("error:"))
-        .collect();
+    let lines = run.error_lines();
     assert_eq!(lines.len(), 1, "{}", run.stderr);
     lines[0].to_string()
 }

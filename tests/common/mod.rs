@@ -130,6 +130,11 @@ impl Run {
             .collect()
     }
 
+    /// The lines of stderr that contain `needle` (a warning's words).
+    pub fn stderr_with(&self, needle: &str) -> Vec<&str> {
+        self.stderr.lines().filter(|l| l.contains(needle)).collect()
+    }
+
     /// A refused run (docs/DESIGN.md, "Exit status"): exit `status`, one
     /// `error:` line (printed once, whatever the rank count) carrying every
     /// one of `needles` (the option, file or reason). Returns the line.
