@@ -56,6 +56,10 @@ pub struct Diagnostics {
     /// those that stick (with a bound above 1e-6 of the largest).
     pub max_slip: f64,
     pub max_stick_slip: f64,
+    /// Whether some node in contact slides with a nonzero slip (else every
+    /// slip is a sticking node's, and [`Diagnostics::stick_slip_rel`] is
+    /// relative to [`Diagnostics::length`]).
+    pub sliding: bool,
     /// Smallest cosine between u_t and lambda_t over the sliding nodes whose
     /// slip exceeds 1e-6 of the largest (1: same direction, (2.9)).
     pub min_slip_alignment: f64,
@@ -115,9 +119,20 @@ impl Diagnostics {
     pub fn friction_excess_rel(&self) -> f64 {
         ratio(self.max_friction_excess.max(0.0), self.max_bound)
     }
-    /// The slip of the sticking nodes relative to the largest slip.
+    /// The scale of the sticking nodes' slip: the largest slip where some
+    /// node slides; where none does, the largest slip is a sticking node's
+    /// own (their ratio would be 1 however small), and the scale is
+    /// [`Self::length`].
+    pub fn slip_scale(&self) -> f64 {
+        if self.sliding {
+            self.max_slip
+        } else {
+            self.length()
+        }
+    }
+    /// The slip of the sticking nodes relative to [`Self::slip_scale`].
     pub fn stick_slip_rel(&self) -> f64 {
-        ratio(self.max_stick_slip, self.max_slip)
+        ratio(self.max_stick_slip, self.slip_scale())
     }
 }
 
@@ -196,10 +211,11 @@ pub fn friction_bound(settings: &Settings, st: &UbrState, bound: &[f64]) -> Vec<
 }
 
 /// The friction checks over the nodes in contact: (excess, max s, max slip,
-/// max slip at stick, min cosine at slip), global (collective: every rank
+/// max slip at stick, min cosine at slip, 1 where some node slides with a
+/// nonzero slip), global (collective: every rank
 /// calls it, with or without candidates).
 #[allow(clippy::needless_range_loop)] // per-candidate arrays indexed together
-fn friction<C: Communicator>(world: &C, p: &Problem, st: &UbrState, bound: &[f64]) -> [f64; 5] {
+fn friction<C: Communicator>(world: &C, p: &Problem, st: &UbrState, bound: &[f64]) -> [f64; 6] {
     let d = p.dim;
     let sf = &st.surface;
     let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
@@ -223,15 +239,20 @@ fn friction<C: Communicator>(world: &C, p: &Problem, st: &UbrState, bound: &[f64
         v
     };
     let (mut excess, mut max_slip, mut stick_slip) = (f64::NEG_INFINITY, 0.0f64, 0.0f64);
+    let mut sliding = 0.0f64;
     for i in (0..p.contact.len()).filter(|&i| touching(i)) {
         let slip = norm(&slip_of(i)[..d]);
         max_slip = max_slip.max(slip);
         if !sf.slip[i] && meaningful(i) {
             stick_slip = stick_slip.max(slip);
         }
+        if sf.slip[i] && slip > 0.0 {
+            sliding = 1.0;
+        }
         excess = excess.max(norm(&sf.stress_t[i * d..(i + 1) * d]) - b(i));
     }
-    let [excess, max_slip, stick_slip] = allreduce_max_n(world, [excess, max_slip, stick_slip]);
+    let [excess, max_slip, stick_slip, sliding] =
+        allreduce_max_n(world, [excess, max_slip, stick_slip, sliding]);
     let mut min_cos = 1.0f64;
     for i in (0..p.contact.len()).filter(|&i| meaningful(i) && sf.slip[i]) {
         let sl = slip_of(i);
@@ -245,7 +266,7 @@ fn friction<C: Communicator>(world: &C, p: &Problem, st: &UbrState, bound: &[f64
     }
     let min_cos = -allreduce_max(world, -min_cos);
     let excess = if excess.is_finite() { excess } else { 0.0 };
-    [excess, max_bound, max_slip, stick_slip, min_cos]
+    [excess, max_bound, max_slip, stick_slip, min_cos, sliding]
 }
 
 /// The discrete optimality conditions at the returned iterate; `bound` is
@@ -279,10 +300,10 @@ pub fn diagnostics<C: Communicator>(
     }
     let [eq2, f2, compl, force, area] = allreduce_sum(world, [eq2, f2, compl, force, area]);
     let m = allreduce_max_n(world, lo);
-    let [excess, max_bound, max_slip, stick_slip, min_cos] = if p.tangential {
+    let [excess, max_bound, max_slip, stick_slip, min_cos, sliding] = if p.tangential {
         friction(world, p, st, bound)
     } else {
-        [0.0, 0.0, 0.0, 0.0, 1.0]
+        [0.0, 0.0, 0.0, 0.0, 1.0, 0.0]
     };
     Ok(Diagnostics {
         equilibrium_abs: eq2.sqrt(),
@@ -306,6 +327,7 @@ pub fn diagnostics<C: Communicator>(
         max_bound,
         max_slip,
         max_stick_slip: stick_slip,
+        sliding: sliding > 0.0,
         min_slip_alignment: min_cos,
     })
 }

@@ -170,6 +170,49 @@ fn resting_3d_coulomb() {
     resting(3, true);
 }
 
+/// A block resting on a slope (the gravity tilted 20 degrees, Coulomb 0.5
+/// above tan 20 = 0.364): every node sticks. The slip of the sticking nodes
+/// is then relative to the largest displacement (it was relative to the
+/// largest slip, their own: 1.0 however small), and friction carries the
+/// weight's component along the slope.
+#[test]
+fn all_sticking_slip_is_relative_to_the_displacement() {
+    let (dir, msh) = mesh("all_stick", "block2d", 2);
+    let t = 20f64.to_radians();
+    let mut args = block_args(&msh, 2, false, 0.0);
+    let i = args.iter().position(|a| a == "-gravity").unwrap();
+    args[i + 1] = format!("{},{}", 9.81 * t.sin(), -9.81 * t.cos());
+    args.retain(|a| a != "-dirichlet_left" && a != "ux=0");
+    args.extend(["-friction", "coulomb", "-friction_coefficient", "0.5"].map(String::from));
+    let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+    for ranks in [1, 2] {
+        let tag = format!("all_stick_n{ranks}");
+        let (run, rep, _) = solve_rows(&tag, ranks, &a);
+        assert_eq!(rep.slip_nodes, 0.0, "{tag}\n{}", run.stdout);
+        assert!(rep.stick_nodes > 10.0, "{tag}\n{}", run.stdout);
+        // The obstacle's force on the body: (-W sin t, W cos t).
+        let (along, across) = (WEIGHT_2D * t.sin(), WEIGHT_2D * t.cos());
+        let f = &rep.contact_force_vector;
+        assert!(
+            (f[0] + along).abs() <= 1e-6 * along && (f[1] - across).abs() <= 1e-6 * across,
+            "{tag}: contact force {f:?} against (-{along}, {across})"
+        );
+        assert!(rep.max_stick_slip > 0.0, "{tag}");
+        assert!(
+            rep.max_stick_slip_rel <= 1e-3,
+            "{tag}: slip at stick nodes {:.2e} relative\n{}",
+            rep.max_stick_slip_rel,
+            run.stdout
+        );
+        assert!(
+            run.stdout.contains("as no node slides"),
+            "{tag}\n{}",
+            run.stdout
+        );
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 /// The one line of an error, and its exit status.
 fn refused(run: &Run, status: i32, needles: &[&str]) {
     assert_eq!(run.status, Some(status), "{}\n{}", run.stdout, run.stderr);

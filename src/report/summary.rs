@@ -344,12 +344,19 @@ fn optimality(m: &Results) {
         d.force_scale()
     );
     if m.problem.tangential {
+        let scale = if d.sliding {
+            format!("max slip {:.3e}", d.slip_scale())
+        } else {
+            format!(
+                "the largest displacement {:.3e}, as no node slides",
+                d.slip_scale()
+            )
+        };
         println!(
-            "  friction law    at the {} nodes in contact: max (|lambda_t| - s)^+ {:.2e} (relative to max s), slip at stick nodes {:.2e} (relative to max slip {:.3e}), min cos(u_t, lambda_t) at slip nodes {:.12}",
+            "  friction law    at the {} nodes in contact: max (|lambda_t| - s)^+ {:.2e} (relative to max s), slip at stick nodes {:.2e} (relative to {scale}), min cos(u_t, lambda_t) at slip nodes {:.12}",
             m.totals.in_contact,
             d.friction_excess_rel(),
             d.stick_slip_rel(),
-            d.max_slip,
             d.min_slip_alignment
         );
     }
