@@ -24,7 +24,7 @@
 use super::anderson::Anderson;
 use super::stopping::StopRule;
 use super::surface::{SurfaceState, UbrState};
-use super::ubr::{ubr, UbrControl, UbrOutcome, Whole};
+use super::ubr::{complete, ubr, UbrControl, UbrOutcome, Whole};
 use super::Problem;
 use crate::comm::{allreduce_max_n, allreduce_sum};
 use crate::error::Error;
@@ -56,20 +56,6 @@ pub struct CfFpOutcome {
     pub failure: Option<String>,
 }
 
-/// A history step that wants no displacement still gets it from the last
-/// allowed Tresca solve (`last`): a fixed point that fails there reports
-/// its state with the displacement that goes with it.
-fn last_makes_u(inner: UbrControl, last: bool) -> UbrControl {
-    if last && inner.displacement == Whole::No {
-        UbrControl {
-            displacement: Whole::Only,
-            ..inner
-        }
-    } else {
-        inner
-    }
-}
-
 /// Runs CF-FP from `s0` (one bound per owned candidate).
 #[allow(clippy::too_many_arguments)]
 pub fn cf_fp<C: Communicator>(
@@ -82,6 +68,41 @@ pub fn cf_fp<C: Communicator>(
     fp_rtol: f64,
     fp_max_it: usize,
     fp_anderson: usize,
+    events: &crate::petsc::Events,
+) -> Result<CfFpOutcome, Error> {
+    let mut out = fixed_point(
+        world,
+        problem,
+        state,
+        nu_f,
+        s0,
+        ctl,
+        (fp_rtol, fp_max_it, fp_anderson),
+        events,
+    )?;
+    // The answer's whole displacement, from the last Tresca solve (a fixed
+    // point that failed reports its state with it, even where a load
+    // history's step wanted none).
+    let mode = match ctl.displacement {
+        Whole::No if !out.converged => Whole::Only,
+        m => m,
+    };
+    complete(world, problem, state, &mut out.last, mode)?;
+    Ok(out)
+}
+
+/// The fixed point of [`cf_fp`] (`fp`: its tolerance, cap and Anderson
+/// memory); the whole displacement of its last Tresca solve is left
+/// pending ([`complete`]).
+#[allow(clippy::too_many_arguments)]
+fn fixed_point<C: Communicator>(
+    world: &C,
+    problem: &mut Problem,
+    state: &mut UbrState,
+    nu_f: f64,
+    s0: Vec<f64>,
+    ctl: &UbrControl,
+    (fp_rtol, fp_max_it, fp_anderson): (f64, usize, usize),
     events: &crate::petsc::Events,
 ) -> Result<CfFpOutcome, Error> {
     let w = problem.contact.w.clone();
@@ -111,7 +132,9 @@ pub fn cf_fp<C: Communicator>(
         let (mut inner, full_tolerance) = inner_control(ctl, m, paper);
         // Never tighter than the round-off an earlier solve stopped at.
         inner.lambda_rtol = inner.lambda_rtol.max(floor);
-        let inner = last_makes_u(inner, m + 1 == fp_max_it);
+        // Only the last Tresca solve's whole displacement is wanted, and
+        // which is last is known after it: made below, once.
+        inner.defer_whole = true;
         let run = ubr(world, problem, state, Some(&s), &inner, events)?;
         if run.roundoff {
             // Eight times its estimate: a later solve at this floor passes

@@ -132,6 +132,7 @@ pub fn control(settings: &Settings) -> ubr::UbrControl {
         drift_limit: f64::INFINITY,
         r_far: None,
         displacement: ubr::Whole::WithChange,
+        defer_whole: false,
     }
 }
 

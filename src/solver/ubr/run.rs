@@ -5,6 +5,7 @@
 
 use super::measures::{z_weights, Maxima, Sums};
 use super::messages::{failure, r_far_words, roundoff, stalled};
+use super::{tangential_from_whole, whole_displacement, Pending};
 use super::{UbrControl, UbrOutcome, Whole, DRIFT_ITS, INNER_FACTOR_MIN, TANGENTIAL_FLOOR};
 use crate::comm::{allreduce_max, allreduce_max_n, allreduce_sum};
 use crate::contact::{project_normal, project_normal_z, project_tangential, project_tangential_z};
@@ -787,7 +788,6 @@ impl<'a, C: Communicator> Run<'a, C> {
     /// The whole displacement of the last evaluation, `u_t` from it (a
     /// condensed run), why the run failed, and the Anderson summary.
     fn finish(mut self) -> Result<UbrOutcome, Error> {
-        let d = self.d;
         // A condensed run knows it at the contact nodes only (the paper's
         // candidates leave theirs).
         // (A run that did not converge reports its state: with its
@@ -796,51 +796,36 @@ impl<'a, C: Communicator> Run<'a, C> {
             Whole::No if !self.out.converged => Whole::Only,
             m => m,
         };
-        let whole = mode != Whole::No;
-        if self.lin.is_condensed() && !self.paper && mode == Whole::Only {
-            // u^k alone (a step of a load history with outputs).
-            let x = self
-                .lin
-                .displacements(&self.surface, &[(&self.c, &self.uc)], true)?;
-            let u = &self.state.u;
-            x.read(|xx| u.write(|u| u.copy_from_slice(xx)))??;
-        } else if self.lin.is_condensed() && !self.paper && whole {
-            // The paper's change (4.16)/(5.6) is reported in every mode: u^{k-1}
-            // and u^k from one solve with two right-hand sides.
-            // (From u_C alone: the equilibrium check of the answer then tests
-            // the Schur solves too.)
-            let x = self.lin.displacements(
-                &self.surface,
-                &[(&self.c_prev, &self.uc_prev), (&self.c, &self.uc)],
-                true,
-            )?;
-            let nloc = self.u_prev.len();
-            let (lumped_mass, u) = (self.lumped_mass, &self.state.u);
-            let (du2, u2) = x.read(|xx| {
-                u.write(|u| u.copy_from_slice(&xx[nloc..2 * nloc]))
-                    .map(|_| mass_norms(lumped_mass, d, &xx[nloc..], &xx[..nloc]))
-            })??;
-            let [du2, u2] = allreduce_sum(self.world, [du2, u2]);
-            self.out.criterion = paper_change(du2, self.last.dphi2, u2, self.last.phi2);
-        }
-        if self.was_condensed && whole && !self.lin.condenses_every_component() {
-            // A condensed solve knew u at the Schur components only: u_t of the
-            // candidates from the whole displacement now known. (Where the
-            // Schur components are all of them, u_t is the last evaluation's
-            // already: recomputed, it would differ by round-off, and a
-            // history's next step, which measures slip from it, would
-            // depend on whether a step's outputs were asked for.)
-            let (st, surface) = (&mut self.state.surface, &self.surface);
-            self.state.u.read(|u| {
-                for (i, &v) in surface.cs.node.iter().enumerate() {
-                    // (The node's own normal n_i: its u is candidate i's.)
-                    let (uv, n) = (&u[v * d..(v + 1) * d], surface.cs.n(i));
-                    let un: f64 = (0..d).map(|c| uv[c] * n[c]).sum();
-                    for c in 0..d {
-                        st.ut[i * d + c] = uv[c] - un * n[c];
-                    }
-                }
-            })?;
+        let pending = Pending {
+            c_prev: std::mem::take(&mut self.c_prev),
+            uc_prev: std::mem::take(&mut self.uc_prev),
+            c: std::mem::take(&mut self.c),
+            uc: std::mem::take(&mut self.uc),
+            dphi2: self.last.dphi2,
+            phi2: self.last.phi2,
+        };
+        if self.ctl.defer_whole && self.lin.is_condensed() && !self.paper {
+            // The caller makes it (`complete`), once it knows it is wanted.
+            self.out.pending = Some(pending);
+        } else {
+            let (lin, surface) = (&mut *self.lin, &self.surface);
+            let paper = self.paper;
+            let state = &mut *self.state;
+            if let Some(c) = whole_displacement(
+                self.world,
+                lin,
+                surface,
+                self.lumped_mass,
+                state,
+                &pending,
+                mode,
+                paper,
+            )? {
+                self.out.criterion = c;
+            }
+            if self.was_condensed && mode != Whole::No && !lin.condenses_every_component() {
+                tangential_from_whole(surface, state)?;
+            }
         }
         let (name, ctl, r) = (self.name, self.ctl, self.r);
         let mut out = self.out;
