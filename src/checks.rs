@@ -212,8 +212,8 @@ pub fn friction_bound(settings: &Settings, st: &UbrState, bound: &[f64]) -> Vec<
 
 /// The friction checks over the nodes in contact: (excess, max s, max slip,
 /// max slip at stick, min cosine at slip, 1 where some node slides with a
-/// nonzero slip), global (collective: every rank
-/// calls it, with or without candidates).
+/// nonzero slip), global (collective: every rank calls it, with or without
+/// candidates).
 #[allow(clippy::needless_range_loop)] // per-candidate arrays indexed together
 fn friction<C: Communicator>(world: &C, p: &Problem, st: &UbrState, bound: &[f64]) -> [f64; 6] {
     let d = p.dim;
