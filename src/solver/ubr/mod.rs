@@ -210,19 +210,9 @@ pub(super) fn whole_displacement<C: Communicator>(
     Ok(criterion)
 }
 
-/// Makes the whole displacement a run of [`UbrControl::defer_whole`] left
-/// pending, as `mode` says (nothing for `Whole::No`), right after the run
-/// (the factorization and r it solved with); sets its paper's change.
-pub fn complete<C: Communicator>(
-    world: &C,
-    problem: &mut Problem,
-    state: &mut UbrState,
-    out: &mut UbrOutcome,
-    mode: Whole,
-) -> Result<(), Error> {
-    let Some(p) = out.pending.take() else {
-        return Ok(());
-    };
+/// What a UBR run works on: the linear solver, the contact surface and
+/// the lumped mass of `problem`.
+fn parts(problem: &mut Problem) -> (&mut LinearSolver, Surface<'_>, &[f64]) {
     let d = problem.dim;
     let Problem {
         contact: cs,
@@ -238,6 +228,23 @@ pub fn complete<C: Communicator>(
         tangential: *tangential,
         dirichlet: &dirichlet.contact,
     };
+    (lin, surface, lumped_mass)
+}
+
+/// Makes the whole displacement a run of [`UbrControl::defer_whole`] left
+/// pending, as `mode` says (nothing for `Whole::No`), right after the run
+/// (the factorization and r it solved with); sets its paper's change.
+pub fn complete<C: Communicator>(
+    world: &C,
+    problem: &mut Problem,
+    state: &mut UbrState,
+    out: &mut UbrOutcome,
+    mode: Whole,
+) -> Result<(), Error> {
+    let Some(p) = out.pending.take() else {
+        return Ok(());
+    };
+    let (lin, surface, lumped_mass) = parts(problem);
     let criterion = whole_displacement(world, lin, &surface, lumped_mass, state, &p, mode, false)?;
     if let Some(c) = criterion {
         out.criterion = c;
@@ -280,21 +287,7 @@ pub fn ubr<C: Communicator>(
     ctl: &UbrControl,
     events: &crate::petsc::Events,
 ) -> Result<UbrOutcome, Error> {
-    let d = problem.dim;
-    let Problem {
-        contact: cs,
-        lin,
-        lumped_mass,
-        dirichlet,
-        tangential,
-        ..
-    } = problem;
-    let surface = Surface {
-        cs,
-        dim: d,
-        tangential: *tangential,
-        dirichlet: &dirichlet.contact,
-    };
+    let (lin, surface, lumped_mass) = parts(problem);
     run::Run::new(
         world,
         lin,
