@@ -48,7 +48,7 @@ fn meaning(code: i32, info2: i32) -> String {
         }
         -10 => format!("the matrix is numerically singular ({info2} pivots)"),
         -16 => format!("N out of range ({info2})"),
-        -17 | -20 => "the right-hand side buffer is too small".to_string(),
+        -17 | -20 => "an internal communication buffer is too small; raise ICNTL(14)".to_string(),
         -22 => format!("an array is not allocated or too small (argument {info2})"),
         -40 => "the matrix was declared positive definite but a negative pivot was met".to_string(),
         _ => format!("INFO(2) = {info2}"),
@@ -336,7 +336,7 @@ impl Mumps {
             // SAFETY: as in `run`.
             unsafe { sys::dmumps_c(&mut *self.id) };
             let code = self.id.infog[0];
-            if matches!(code, -8 | -9 | -14 | -15 | -11 | -12) {
+            if matches!(code, -8 | -9 | -14 | -15 | -11 | -12 | -17 | -20) {
                 let cur = icntl!(self.id, 14).max(20);
                 icntl!(self.id, 14) = 2 * cur;
                 continue;
