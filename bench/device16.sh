@@ -3,6 +3,7 @@
 # the 2D (-mesh_h 0.01) and 3D (-mesh_h 0.0333) direct scenes at 1..16 ranks, the 1M-node
 # GAMG block at 16, and variants. Needs the relocatable bundle (../shared/tools/bundle) in
 # bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh [full|partition|local|final|repeat|gamg|ptscotch|current]
+# MAP="mpirun options" replaces the default one rank per core (hybrid runs with BLAS threads).
 # Writes $OUT/dev.log (summary lines) and $OUT/runs.txt (every run's whole output).
 set -u
 OUT=${OUT:-/tmp/out}; mkdir -p "$OUT"
@@ -22,7 +23,7 @@ one() {  # one RANKS TAG options...
   if [ $el -gt $DEADLINE ]; then echo "SKIP tag=$tag n=$n (elapsed $el s)"; return; fi
   local lim=$(( DEADLINE + 40 - el )); [ $lim -gt 240 ] && lim=240
   local s=$(date +%s%N)
-  timeout $lim bash "$B/run.sh" mpirun -n "$n" --bind-to core --map-by core ubr-petsc "$@" > /tmp/o 2>&1
+  timeout $lim bash "$B/run.sh" mpirun -n "$n" ${MAP:---bind-to core --map-by core} ubr-petsc "$@" > /tmp/o 2>&1
   local rc=$? e=$(( ($(date +%s%N) - s) / 1000000 ))
   echo "RUN tag=$tag n=$n rc=$rc wall_ms=$e  [$*]"
   grep -E "nodes,|linear solver|iterations  |r      |time \(s\)|memory \(MiB\)" /tmp/o | sed 's/^/    /'
@@ -80,6 +81,28 @@ echo "== 2D direct"; one 1 d2 $H2; one 16 d2 $H2 -log_view; one 16 d2 $H2; one 1
 echo "== 3D direct"; one 1 d3 $H3; one 16 d3 $H3 -log_view; one 16 d3 $H3; one 8 d3 $H3
 echo "== 1M GAMG"; one 16 g3pt $G3 -partition ptscotch -log_view; one 16 g3rcb $G3 -partition rcb -log_view
 one 16 g3 $G3; one 16 g3pt $G3 -partition ptscotch; one 1 d2 $H2; one 1 d3 $H3
+;;
+lease5)  # the scaling curve, MUMPS' statistics at 16 ranks, Coulomb friction at scale, BLAS threads
+echo "== 2D direct"; for n in 1 2 4 8; do one $n d2 $H2; done; one 16 d2 $H2 -log_view; one 16 d2 $H2
+echo "== 3D direct"; for n in 1 2 4 8; do one $n d3 $H3; done; one 16 d3 $H3 -log_view; one 16 d3 $H3
+one 16 d3stats $H3 -mat_mumps_icntl_3 6 -mat_mumps_icntl_4 2
+echo "== 3D Coulomb"; C3="-options_file options/block3d-coulomb -mesh_generate block3d -mesh_h 0.0333"
+one 16 c3 $C3 -log_view; one 1 c3 $C3
+echo "== BLAS threads (8 x 2, 4 x 4 cores)"
+export OPENBLAS_NUM_THREADS=2; MAP="--map-by slot:PE=2 --bind-to core" one 8 d3t2 $H3; MAP="--map-by slot:PE=2 --bind-to core" one 8 d2t2 $H2
+export OPENBLAS_NUM_THREADS=4; MAP="--map-by slot:PE=4 --bind-to core" one 4 d3t4 $H3; export OPENBLAS_NUM_THREADS=1
+echo "== 1M GAMG"; one 16 g3rcb $G3 -partition rcb -log_view
+echo "== medians"; one 1 d2 $H2; one 1 d3 $H3; one 16 d2 $H2; one 16 d3 $H3
+;;
+lease6)  # friction condensed by default (CONDENSE_MAX), the Schur complement on ScaLAPACK, more end points
+C3="-options_file options/block3d-coulomb -mesh_generate block3d -mesh_h 0.0333"
+C2="-options_file options/hertz-coulomb -mesh_generate hertz2d -mesh_h 0.01"
+echo "== 3D Coulomb"; one 16 c3 $C3 -log_view; one 16 c3sd $C3 -ubr_schur_distributed 1 -log_view
+one 16 c3old $C3 -ubr_condense_max 4000; one 16 c3sd $C3 -ubr_schur_distributed 1; one 8 c3 $C3; one 8 c3sd $C3 -ubr_schur_distributed 1
+echo "== 2D Coulomb"; one 16 c2 $C2 -log_view; one 16 c2sd $C2 -ubr_schur_distributed 1; one 16 c2old $C2 -ubr_condense_max 2000; one 1 c2 $C2
+echo "== frictionless, ScaLAPACK"; one 16 d3sd $H3 -ubr_schur_distributed 1 -log_view; one 16 d2sd $H2 -ubr_schur_distributed 1 -log_view
+echo "== medians"; one 1 d2 $H2; one 16 d2 $H2; one 16 d2 $H2; one 1 d3 $H3; one 16 d3 $H3; one 16 d3 $H3; one 1 d2 $H2; one 16 d2 $H2
+one 1 c3 $C3
 ;;
 esac
 echo "== done after $(( $(date +%s) - T0 )) s"

@@ -64,7 +64,7 @@ pub const OPENBLAS_BUFFER: usize = (128 << 20) + (1 << 20);
 
 /// The address of symbol `name` among the libraries the process loaded
 /// (RTLD_DEFAULT, glibc's null handle), or null.
-fn loaded_symbol(name: &std::ffi::CStr) -> *mut std::ffi::c_void {
+pub(crate) fn loaded_symbol(name: &std::ffi::CStr) -> *mut std::ffi::c_void {
     extern "C" {
         fn dlsym(handle: *mut std::ffi::c_void, name: *const c_char) -> *mut std::ffi::c_void;
     }

@@ -182,8 +182,10 @@ pub struct UbrSettings {
     /// Condense the UBR solve onto the contact unknowns when there are at
     /// most this many (None: the default of the dimension, see `-help`).
     pub condense_max: Option<usize>,
-    /// Several ranks: MUMPS returns the Schur complement distributed.
-    pub schur_distributed: bool,
+    /// Several ranks: the Schur complement distributed over the ranks and
+    /// factorized there by ScaLAPACK (None: not given, the default of the
+    /// rank count, [`crate::linalg::SCHUR_GRID_RANKS`]).
+    pub schur_distributed: Option<bool>,
     /// MUMPS' full solves with distributed right-hand sides and solutions
     /// (`-ubr_mumps_rhs distributed`), else through rank 0.
     pub distributed_rhs: bool,
@@ -666,7 +668,7 @@ fn ubr_settings() -> Result<UbrSettings, Error> {
         mumps_direct: UBR_MUMPS_DIRECT.get()?,
         sbaij: UBR_SBAIJ.get()?,
         condense_max: UBR_CONDENSE_MAX.count()?,
-        schur_distributed: UBR_SCHUR_DISTRIBUTED.get()?,
+        schur_distributed: UBR_SCHUR_DISTRIBUTED.switch()?,
         distributed_rhs: UBR_MUMPS_RHS.get()? == "distributed",
         dual_rtol: positive(
             UBR_DUAL_RTOL.name,

@@ -296,8 +296,10 @@ fn refactorization_of_the_trimmed_input() {
 }
 
 /// `-ubr_schur_distributed 1` (issue "Scaling studies", item 2): MUMPS
-/// returns the Schur complement on a 1 x P grid and rank 0 gathers it. The
-/// same contact stresses as the centralized Schur complement to round-off,
+/// returns the Schur complement on a 1 x P grid, and ScaLAPACK factorizes
+/// it and solves with it there (the changes of r included: the Coulomb
+/// scene's automatic r moves). The same contact stresses as the
+/// centralized Schur complement (`-ubr_schur_distributed 0`) to round-off,
 /// on 2, 3 and 4 ranks, 2D and 3D, frictionless and Coulomb, and the
 /// summary says which layout ran.
 #[test]
@@ -330,13 +332,17 @@ fn distributed_schur_equals_centralized() {
     ];
     for (k, scene) in scenes.iter().enumerate() {
         for ranks in [2, 3, 4] {
-            let (_, _, central) = solve_rows(&format!("schur_c{k}_{ranks}"), ranks, scene);
+            let mut central_args = scene.to_vec();
+            central_args.extend_from_slice(&["-ubr_schur_distributed", "0"]);
+            let (crun, _, central) =
+                solve_rows(&format!("schur_c{k}_{ranks}"), ranks, &central_args);
+            assert!(!crun.stdout.contains("ScaLAPACK"), "{}", crun.stdout);
             let mut args = scene.to_vec();
             args.extend_from_slice(&["-ubr_schur_distributed", "1"]);
             let (run, _, dist) = solve_rows(&format!("schur_d{k}_{ranks}"), ranks, &args);
             assert!(
                 run.stdout
-                    .contains("the Schur complement from MUMPS distributed over the ranks"),
+                    .contains("the Schur complement from MUMPS distributed over the ranks, factorized and solved there by ScaLAPACK"),
                 "{}",
                 run.stdout
             );

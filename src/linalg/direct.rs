@@ -13,7 +13,9 @@
 //!   from the flops MUMPS' AMD ordering predicts ([`METIS_PAYS_2D`]).
 //! - Schur complement (when condensing): on the contact unknowns (candidate
 //!   by candidate, rank by rank), centralized on the host (ICNTL(19) = 1),
-//!   factorized there by LAPACK. A full solve is then a condensation
+//!   factorized there by LAPACK; or, with `-ubr_schur_distributed 1`, on
+//!   MUMPS' 1 x P grid (ICNTL(19) = 3), factorized and solved there by
+//!   ScaLAPACK (`linalg/grid.rs`). A full solve is then a condensation
 //!   (ICNTL(26) = 1), a dense solve with S, an expansion (ICNTL(26) = 2).
 //!   A condensed UBR solve gathers the m contact values of the right-hand
 //!   side on the host, solves with S there and scatters the result back.
@@ -31,8 +33,9 @@
 //! may replace it by AMD).
 
 use super::distsol::DistSolve;
+use super::grid::GridSchur;
 pub use super::schur::SchurLayout;
-use super::schur::{host_schur, schur_factor, schur_memory, SCHUR_BLOCK};
+use super::schur::{first_factors, host_schur, schur_factor, schur_memory, SCHUR_BLOCK};
 use crate::comm::{allreduce_max, allreduce_sum, Layout};
 use crate::contact::surface::Surface;
 use crate::dense::{sym_upper_mv, SpdFactor};
@@ -59,6 +62,9 @@ struct SchurPart {
     /// for the next change of r).
     s_raw: Vec<f64>,
     s: Option<SpdFactor>,
+    /// Distributed: S's factors on every rank instead (S itself stays in
+    /// MUMPS' array); `s_raw`, `s` and `shifted` are then empty.
+    grid: Option<GridSchur>,
     shifted: Option<SpdFactor>,
     shifted_on: bool,
     /// Host: the gathered right-hand side and the solution of a Schur
@@ -461,17 +467,17 @@ impl Direct {
         }
         if condense {
             let _e = LogEvent::register("SchurFactor")?.begin();
-            let upper = host_schur(world, &direct.mumps, m, distributed)?;
-            let (s_raw, s, failed) = schur_factor(world, &upper, m);
-            if let Err(e) = host_verdict(world, failed) {
-                return Direct::failed(direct, e);
-            }
+            let (s_raw, s, grid) = match first_factors(world, &direct.mumps, m, distributed) {
+                Ok(f) => f,
+                Err(e) => return Direct::failed(direct, e),
+            };
             direct.schur = Some(SchurPart {
                 m,
                 distributed,
                 layout: Layout::new(world, surface.cs.len() * comps.len()),
                 s_raw,
                 s,
+                grid,
                 shifted: None,
                 shifted_on: false,
                 rhs: vec![0.0; if world.rank() == 0 { m } else { 0 }],
@@ -681,6 +687,15 @@ impl Direct {
         self.mumps_solve(world, &mut cols, keep, 1)?;
         self.reduced = keep;
         let sp = self.schur.as_mut().expect("condensed");
+        if let Some(g) = sp.grid.as_mut() {
+            if host {
+                g.rhs_mut()
+                    .copy_from_slice(&self.mumps.redrhs_mut()[..sp.m]);
+            }
+            g.solve_gathered(world, false)?;
+            sp.layout.scatter(world, g.rhs_mut(), x);
+            return Ok(());
+        }
         let failed = host && {
             let s = sp.s.as_ref().expect("the host has S");
             s.solve(&self.mumps.redrhs_mut()[..sp.m], &mut sp.sol)
@@ -738,6 +753,9 @@ impl Direct {
         self.usable()?;
         let _e = self.ev_schur.begin();
         let sp = self.schur.as_mut().expect("condensed");
+        if let Some(g) = sp.grid.as_mut() {
+            return g.solve(world, &sp.layout, c, x, true);
+        }
         sp.layout.gather_into(world, c, &mut sp.rhs);
         let failed = world.rank() == 0 && {
             let s = if sp.shifted_on {
@@ -757,6 +775,10 @@ impl Direct {
     /// scattered back (S at the assembled r).
     pub fn apply_schur<C: Communicator>(&self, world: &C, y: &[f64], out: &mut [f64]) {
         let sp = self.schur.as_ref().expect("condensed");
+        if let Some(g) = &sp.grid {
+            g.apply(world, &sp.layout, self.mumps.schur_local(), y, out);
+            return;
+        }
         let all = sp.layout.gather(world, y);
         let mut prod = Vec::new();
         if world.rank() == 0 {
@@ -779,6 +801,10 @@ impl Direct {
         self.usable()?;
         let sp = self.schur.as_mut().expect("condensed");
         let layout = Layout::new(world, blocks.len());
+        if let Some(g) = sp.grid.as_mut() {
+            let all = layout.all_gather(world, blocks);
+            return g.shift(world, self.mumps.schur_local(), delta, &all, d);
+        }
         let all = layout.gather(world, blocks);
         let mut status = 0.0f64;
         if world.rank() == 0 {
@@ -847,10 +873,12 @@ impl Direct {
         self.factorizations += 1;
         let verdict = factorized.and_then(|()| match self.schur.as_mut() {
             Some(sp) => {
+                if let Some(g) = sp.grid.as_mut() {
+                    return g.refactor(world, self.mumps.schur_local());
+                }
                 // The old factor goes first (the host holds one S at a time).
                 sp.s = None;
-                let upper = host_schur(world, &self.mumps, sp.m, sp.distributed)?;
-                let (s_raw, s, failed) = schur_factor(world, &upper, sp.m);
+                let (s_raw, s, failed) = schur_factor(world, host_schur(&self.mumps), sp.m);
                 (sp.s_raw, sp.s, sp.shifted_on) = (s_raw, s, false);
                 host_verdict(world, failed)
             }

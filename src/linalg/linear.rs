@@ -213,7 +213,7 @@ impl LinearSolver {
         self.y0 = Some((y0.clone(), y0));
         let layout = match &self.engine {
             Engine::Direct(d) if d.schur_distributed() => {
-                " (the Schur complement from MUMPS distributed over the ranks)"
+                " (the Schur complement from MUMPS distributed over the ranks, factorized and solved there by ScaLAPACK)"
             }
             _ => "",
         };

@@ -5,6 +5,7 @@
 
 pub mod direct;
 mod distsol;
+mod grid;
 pub mod linear;
 pub mod memfit;
 pub mod ordering;
@@ -15,18 +16,53 @@ use crate::mesh::distribute::LocalMesh;
 use crate::options::LinearBackend;
 use crate::petsc::{self, options, sys, Ksp, Matrix, NullSpace, Vector};
 
-/// Default largest number of contact unknowns for the condensed back-end,
-/// in 2D and 3D (MUMPS called directly: METIS ordering, the Schur unknowns
-/// last, u_n alone when frictionless along an axis). Measured on one rank,
-/// factorization + r choice + iterations, full against condensed: 2D
-/// hertz_37473 (329 unknowns) 2.2 -> 0.7 s; 3D block3d_2357 (262) 0.14 ->
-/// 0.13 s, block3d_10761 (762) 2.00 -> 1.48 s, block3d_17887 (1042) 7.1 ->
-/// 4.8 s, a generated 83,300-node block (2380) 58.1 -> 48.0 s; Coulomb
-/// (every component) block3d_10761 (2286) 5.6 -> 3.1 s, block3d_17887
-/// (3126) 10.6 -> 6.5 s. Above a few thousand unknowns the dense m^3/3 of
-/// the Schur block (on rank 0) grows past what 20-130 iterations save; in 2D
-/// the sparse solves are cheap and the break-even comes sooner.
-pub const CONDENSE_MAX: [usize; 2] = [2000, 4000];
+/// Default largest number of contact unknowns for the condensed back-end
+/// (MUMPS called directly: the Schur unknowns last, u_n alone when
+/// frictionless along an axis), in 2D and 3D, frictionless and with
+/// friction (every component, and Tresca's or CF-FP's 100-250 iterations
+/// against 30-70). Above it the dense m^3/3 of the Schur block (on rank 0)
+/// and the larger sparse factorization (the Schur unknowns ride up to the
+/// root) cost more than the full sparse solves they save. Measured
+/// (factorization + r choice + iterations, full against condensed):
+/// - 1 rank: 2D hertz_37473 (329 unknowns) 2.2 -> 0.7 s; 3D block3d_2357
+///   (262) 0.14 -> 0.13 s, block3d_10761 (762) 2.00 -> 1.48 s,
+///   block3d_17887 (1042) 7.1 -> 4.8 s, a generated 83,300-node block
+///   (2380) 58.1 -> 48.0 s; Coulomb block3d_10761 (2286) 5.6 -> 3.1 s,
+///   block3d_17887 (3126) 10.6 -> 6.5 s.
+/// - 2 ranks (2026-11-28): 2D Coulomb on the generated Hertz scene at
+///   `-mesh_h 0.01` (582k nodes, 2516 unknowns) 153.4 -> 14.0 s (246 full
+///   solves of 0.57 s against a dense solve of 3 ms; the Schur block adds
+///   2.4 s to the sparse factorization); 3D Coulomb on the generated block
+///   at `-mesh_h 0.0333` (63k nodes, 5952 unknowns) 71.5 -> 39.6 s (158
+///   full solves of 0.35 s; the Schur block adds 15.5 s to the sparse
+///   factorization and 4.0 s of dense Cholesky). Frictionless, 27 such
+///   iterations would not pay for those 19.5 s: 3D keeps 4000 there.
+///   2D frictionless on the Hertz scene at `-mesh_h 0.005` (2.33M nodes,
+///   2514 unknowns, 92 iterations) 313.6 -> 63.1 s.
+///
+/// In 2D the sparse solves grow as n log n and the dense one as m^2 ~ n
+/// (a boundary's unknowns), so the break-even comes late.
+pub const CONDENSE_MAX: [[usize; 2]; 2] = [[6000, 6000], [4000, 6000]];
+
+/// The rank count from which the Schur complement of a condensed run is
+/// distributed over the ranks and factorized and solved there by ScaLAPACK
+/// by default (`-ubr_schur_distributed`; [`grid`]). Measured on a 16-core
+/// machine (2026-11-28; total s, LAPACK on rank 0 against ScaLAPACK):
+/// generated block, Coulomb, 5952 unknowns: 16 ranks 13.5 against 8.1 and
+/// 9.1 (the dense factorization 1.56 against 0.28 s, 143 solves 3.38
+/// against 0.92 s), 8 ranks 16.1 against 11.2; frictionless 3D (1984
+/// unknowns) 5.6-5.7 against 5.1, 2D (1258) 2.8-2.9 against 2.6. On 2
+/// ranks (this project's 2-core machine, medians of 2-3 runs each) no gain:
+/// the same within the noise on the large scenes, 4-7% slower on
+/// hertz_37473 and block3d_17887 (one-column solves on a 1 x 2 grid wait
+/// on each other's blocks).
+pub const SCHUR_GRID_RANKS: usize = 4;
+
+/// The default of `-ubr_condense_max` in dimension `d`, with friction
+/// (`tangential`) or not ([`CONDENSE_MAX`]).
+pub fn condense_max(d: usize, tangential: bool) -> usize {
+    CONDENSE_MAX[d - 2][usize::from(tangential)]
+}
 
 /// Puts PETSc's defaults of `backend` in the options database: a Cholesky
 /// factorization by MUMPS, unless the user picked something else.

@@ -3,7 +3,7 @@
 //! Cholesky factor.
 
 use super::direct::host_verdict;
-use crate::comm::Layout;
+use super::grid::GridSchur;
 use crate::dense::SpdFactor;
 use crate::error::Error;
 use crate::mumps::Mumps;
@@ -46,84 +46,40 @@ pub(super) fn schur_factor<C: Communicator>(
 /// Where MUMPS builds the Schur complement of a condensed back-end.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SchurLayout {
-    /// On the host (ICNTL(19) = 1).
+    /// On the host (ICNTL(19) = 1), factorized and solved there by LAPACK.
     Centralized,
-    /// Over every rank (ICNTL(19) = 3, a 1 x P grid), gathered on the host.
+    /// Over every rank (ICNTL(19) = 3, a 1 x P grid), factorized and
+    /// solved there by ScaLAPACK ([`super::grid`]).
     Distributed,
 }
 
 /// Column block of a distributed Schur complement (ScaLAPACK's NB).
 pub(super) const SCHUR_BLOCK: usize = 64;
 
-/// The number of rows or columns of an order-`n` matrix that process `p`
-/// of `procs` holds in blocks of `nb` (ScaLAPACK's NUMROC, first block on
-/// process 0).
-fn numroc(n: usize, nb: usize, p: usize, procs: usize) -> usize {
-    let blocks = n / nb;
-    let mut count = (blocks / procs) * nb;
-    let extra = blocks % procs;
-    if p < extra {
-        count += nb;
-    } else if p == extra {
-        count += n % nb;
-    }
-    count
-}
-
-/// The distributed Schur complement (each rank's column blocks of the
-/// 1 x P grid, `local`, column-major with every row) gathered on the host
-/// as the whole `m x m` matrix, column-major (empty elsewhere). Process
-/// column p of MUMPS' grid is rank p; a part of another size than that
-/// mapping gives is an internal error.
-fn gather_schur<C: Communicator>(
-    world: &C,
-    local: &[f64],
-    m: usize,
-    nb: usize,
-) -> Result<Vec<f64>, Error> {
-    let procs = world.size() as usize;
-    let mine = numroc(m, nb, world.rank() as usize, procs) * m;
-    let part = &local[..mine.min(local.len())];
-    let layout = Layout::new(world, part.len());
-    let all = layout.gather(world, part);
-    let ok =
-        world.rank() != 0 || (0..procs).all(|p| layout.count(p) == numroc(m, nb, p, procs) * m);
-    host_verdict(
-        world,
-        (!ok).then(|| {
-            Error::Internal(
-                "the distributed Schur complement's parts are not the 1 x P grid's".into(),
-            )
-        }),
-    )?;
-    if world.rank() != 0 {
-        return Ok(Vec::new());
-    }
-    let mut full = crate::dense::try_zeros(m * m).map_err(|bytes| schur_memory(m, bytes))?;
-    let mut offset = 0;
-    for p in 0..procs {
-        let nloc = numroc(m, nb, p, procs);
-        for jl in 0..nloc {
-            let j = (jl / nb) * procs * nb + p * nb + jl % nb;
-            full[j * m..(j + 1) * m].copy_from_slice(&all[offset + jl * m..offset + (jl + 1) * m]);
-        }
-        offset += nloc * m;
-    }
-    Ok(full)
-}
-
 /// The Schur complement on the host after a factorization (its upper
-/// triangle column-major; empty elsewhere): MUMPS' own array, or the
-/// distributed parts gathered.
-pub(super) fn host_schur<'a, C: Communicator>(
+/// triangle column-major; empty elsewhere): MUMPS' own array.
+pub(super) fn host_schur(mumps: &Mumps) -> &[f64] {
+    mumps.schur_upper()
+}
+
+/// S on the host and its factor, or the grid that holds S's factors.
+pub(super) type Factors = (Vec<f64>, Option<SpdFactor>, Option<GridSchur>);
+
+/// The Schur complement's factors after MUMPS' first factorization: on
+/// the host (S as MUMPS returned it, and its LAPACK factor), or on the grid
+/// (ScaLAPACK's, when `distributed`). Collective.
+pub(super) fn first_factors<C: Communicator>(
     world: &C,
-    mumps: &'a Mumps,
+    mumps: &Mumps,
     m: usize,
     distributed: bool,
-) -> Result<std::borrow::Cow<'a, [f64]>, Error> {
-    Ok(if distributed {
-        std::borrow::Cow::Owned(gather_schur(world, mumps.schur_local(), m, SCHUR_BLOCK)?)
-    } else {
-        std::borrow::Cow::Borrowed(mumps.schur_upper())
-    })
+) -> Result<Factors, Error> {
+    if distributed {
+        let comm = crate::petsc::comm_world();
+        let grid = GridSchur::new(world, comm, mumps.schur_local(), m, SCHUR_BLOCK)?;
+        return Ok((Vec::new(), None, Some(grid)));
+    }
+    let (s_raw, s, failed) = schur_factor(world, host_schur(mumps), m);
+    host_verdict(world, failed)?;
+    Ok((s_raw, s, None))
 }

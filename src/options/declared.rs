@@ -140,16 +140,21 @@ impl Opt<usize> {
     }
 }
 
+/// The switch `-name` given as `s` (empty: on).
+fn parse_switch(name: &str, s: &str) -> Result<bool, Error> {
+    match s.trim().to_ascii_lowercase().as_str() {
+        "" | "1" | "true" | "yes" | "on" => Ok(true),
+        "0" | "false" | "no" | "off" => Ok(false),
+        _ => bad(format!("option {name}: '{s}' is not a boolean")),
+    }
+}
+
 impl Opt<bool> {
     /// A switch: given without a value, on.
     pub fn get(&self) -> Result<bool, Error> {
         match raw(self.name)? {
             None => Ok(self.default),
-            Some(s) => match s.trim().to_ascii_lowercase().as_str() {
-                "" | "1" | "true" | "yes" | "on" => Ok(true),
-                "0" | "false" | "no" | "off" => Ok(false),
-                _ => bad(format!("option {}: '{s}' is not a boolean", self.name)),
-            },
+            Some(s) => parse_switch(self.name, &s),
         }
     }
 }
@@ -178,6 +183,13 @@ impl Opt<Given> {
     pub fn vector(&self) -> Result<Option<Vec<f64>>, Error> {
         vector_of(self.name)
     }
+    /// A switch whose default depends on the run (None: not given).
+    pub fn switch(&self) -> Result<Option<bool>, Error> {
+        raw(self.name)?
+            .map(|s| parse_switch(self.name, &s))
+            .transpose()
+    }
+
     pub fn count(&self) -> Result<Option<usize>, Error> {
         count_of(self.name)
     }
@@ -282,10 +294,10 @@ opt!(UBR_FP_RTOL: f64 = "-ubr_fp_rtol" "EPS", 1e-4, "paper stop: fixed-point tol
 opt!(UBR_FP_MAX_IT: usize = "-ubr_fp_max_it" "N", 100, "maximum fixed-point iterations (CF-FP)");
 opt!(UBR_FP_ANDERSON: Given = "-ubr_fp_anderson" "M", Given("3 (0 with -ubr_anderson 0)"), "memory of the Anderson acceleration of CF-FP's outer fixed point s -> nu_f |lambda_c(s)|; 0: the paper's plain fixed point");
 opt!(UBR_MONITOR: bool = "-ubr_monitor" "", false, "print one line per UBR iteration");
-opt!(UBR_CONDENSE_MAX: Given = "-ubr_condense_max" "P", Given("2000 in 2D, 4000 in 3D"), "MUMPS: condense each UBR solve onto the P or fewer contact unknowns (the Schur complement from the one factorization, on rank 0 whatever the rank count; a dense solve per iteration, the whole displacement only at the end; with -ubr_stop paper not with -ubr_monitor, -plot_history); 0: a full sparse solve per iteration");
+opt!(UBR_CONDENSE_MAX: Given = "-ubr_condense_max" "P", Given("6000 in 2D; 4000 in 3D, 6000 with friction"), "MUMPS: condense each UBR solve onto the P or fewer contact unknowns (the Schur complement from the one factorization, on rank 0 whatever the rank count; a dense solve per iteration, the whole displacement only at the end; with -ubr_stop paper not with -ubr_monitor, -plot_history); 0: a full sparse solve per iteration");
 opt!(UBR_MEMORY_MB: Given = "-ubr_memory_mb" "MB", Given("what each machine has free"), "the memory in MB that the ranks of one machine may use together: a run whose stiffness matrix alone exceeds it is refused before the assembly, and with MUMPS called directly a factorization that MUMPS' analysis predicts larger (INFO(15) summed over the machine's ranks) before it starts, exit 4 (default: the machine's MemAvailable and SwapFree, within its memory cgroup's limit; the factorization is not checked with -mat_mumps_icntl_23, MUMPS' own cap per rank)");
 opt!(UBR_MEMORY_RESERVE: Given = "-ubr_memory_reserve" "MB", Given("3% of the machine's memory, 256 MB to 2 GB"), "the free memory in MB that a run keeps on each of its machines: a run that leaves less while it works ends with exit 4 and the phase it was in, before the system kills a rank; a machine with less free at the start is refused (0: no watch)");
-opt!(UBR_SCHUR_DISTRIBUTED: bool = "-ubr_schur_distributed" "0|1", false, "condensed MUMPS solves on several ranks: MUMPS returns the Schur complement distributed over every rank (ICNTL(19) = 3 on a 1 x P grid; its root front assembled by all) and rank 0 gathers it once, instead of building it on rank 0 alone (ICNTL(19) = 1); the same answer to round-off (measured at -n 2, 3D, 63k nodes: no faster, 12.4 s against 12.2 s of factorization; meant for scaling studies on many ranks)");
+opt!(UBR_SCHUR_DISTRIBUTED: Given = "-ubr_schur_distributed" "0|1", Given("1 from 4 ranks on, 0 below"), "condensed MUMPS solves on several ranks: MUMPS returns the Schur complement distributed over every rank (ICNTL(19) = 3 on a 1 x P grid; its root front assembled by all), and ScaLAPACK factorizes it (pdpotrf) and solves with it (pdpotrs) there; 0: on rank 0 (ICNTL(19) = 1), by LAPACK; the same answer to round-off (3D Coulomb, 63k nodes, 5952 unknowns, 16 ranks: 8.1-9.1 s against 13.5 s, the dense factorization 0.28 s against 1.56 s; on 2 ranks within 7% either way, hence the default)");
 opt!(UBR_MUMPS_RHS: Choice = "-ubr_mumps_rhs" "distributed|centralized", Choice { default: "distributed", values: &["distributed", "centralized"] }, "MUMPS called directly: full solves hand MUMPS each rank's rows of the right-hand sides and send its distributed solution to the rows' owners (ICNTL(20) = 10, ICNTL(21) = 1); centralized: gathered on rank 0 and scattered from there (ICNTL(20) = ICNTL(21) = 0)");
 opt!(UBR_MUMPS_DIRECT: bool = "-ubr_mumps_direct" "0|1", true, "the default direct solver (-pc_type cholesky -pc_factor_mat_solver_type mumps) calls MUMPS itself: METIS nested-dissection ordering, the Schur complement on any rank count; 0: through PETSc's MUMPS interface (AMD/PORD, no condensation)");
 opt!(UBR_SBAIJ: bool = "-ubr_sbaij" "0|1", true, "iterative solvers: the Krylov method's and the smoothers' products use a copy of the operator in symmetric block storage (the upper block triangle: about half the bytes read per product, for 40-50% more matrix memory), the preconditioner is built from the AIJ matrix; 0: AIJ products");

@@ -29,7 +29,7 @@ use crate::contact::ContactSet;
 use crate::error::Error;
 use crate::fem;
 use crate::linalg::linear::{Engine, LinearSolver};
-use crate::linalg::{direct, linear_solver, CONDENSE_MAX};
+use crate::linalg::{condense_max, direct, linear_solver};
 use crate::mesh::distribute::LocalMesh;
 use crate::options::Settings;
 use crate::petsc::{self, sys, Matrix, Vector};
@@ -271,7 +271,7 @@ impl Problem {
     /// Factorization stage: the back-end of `settings.linear` for the
     /// assembled matrix, factorized once (a direct solver): the condensed
     /// back-end where it applies (MUMPS called directly, on any rank count,
-    /// few enough contact unknowns, see [`CONDENSE_MAX`]; not under the
+    /// few enough contact unknowns, see [`crate::linalg::CONDENSE_MAX`]; not under the
     /// paper's stop with `-ubr_monitor` or `-plot_history`).
     pub fn factorize<C: Communicator>(
         world: &C,
@@ -450,7 +450,11 @@ fn condensed<C: Communicator>(
         && settings.linear.mumps_direct()
         && !every_change
         && schur_size > 0
-        && schur_size <= settings.ubr.condense_max.unwrap_or(CONDENSE_MAX[d - 2])
+        && schur_size
+            <= settings.ubr.condense_max.unwrap_or(condense_max(
+                d,
+                terms == ContactTerms::Ubr { tangential: true },
+            ))
 }
 
 /// The chosen engine, before the [`LinearSolver`] that wraps it.
@@ -479,7 +483,11 @@ fn engine<C: Communicator>(
 ) -> Result<Chosen, Error> {
     let d = mesh.dim;
     if terms != ContactTerms::None && settings.linear.mumps_direct() {
-        let layout = condense.then_some(if settings.ubr.schur_distributed {
+        let grid = settings
+            .ubr
+            .schur_distributed
+            .unwrap_or(world.size() as usize >= crate::linalg::SCHUR_GRID_RANKS);
+        let layout = condense.then_some(if grid {
             direct::SchurLayout::Distributed
         } else {
             direct::SchurLayout::Centralized
