@@ -13,9 +13,9 @@
 //!   from the flops MUMPS' AMD ordering predicts ([`METIS_PAYS_2D`]).
 //! - Schur complement (when condensing): on the contact unknowns (candidate
 //!   by candidate, rank by rank), centralized on the host (ICNTL(19) = 1),
-//!   factorized there by LAPACK; or, with `-ubr_schur_distributed 1`, on
-//!   MUMPS' 1 x P grid (ICNTL(19) = 3), factorized and solved there by
-//!   ScaLAPACK (`linalg/grid.rs`). A full solve is then a condensation
+//!   factorized there by LAPACK; or, from 4 ranks on
+//!   (`-ubr_schur_distributed`), on MUMPS' 1 x P grid (ICNTL(19) = 3),
+//!   factorized and solved there by ScaLAPACK (`linalg/grid.rs`). A full solve is then a condensation
 //!   (ICNTL(26) = 1), a dense solve with S, an expansion (ICNTL(26) = 2).
 //!   A condensed UBR solve gathers the m contact values of the right-hand
 //!   side on the host, solves with S there and scatters the result back.
