@@ -38,7 +38,9 @@ use crate::petsc::{self, options, sys, Ksp, Matrix, NullSpace, Vector};
 ///   factorization and 4.0 s of dense Cholesky). Frictionless, 27 such
 ///   iterations would not pay for those 19.5 s: 3D keeps 4000 there.
 ///   2D frictionless on the Hertz scene at `-mesh_h 0.005` (2.33M nodes,
-///   2514 unknowns, 92 iterations) 313.6 -> 63.1 s.
+///   2514 unknowns, 92 iterations) 313.6 -> 63.1 s. 3D Tresca, few
+///   iterations (the block at `-mesh_h 0.037`, 47k nodes, 4872 unknowns,
+///   46-50 iterations) 35.3 -> 24.8 s, rank 0's peak 927 -> 1996 MiB.
 ///
 /// In 2D the sparse solves grow as n log n and the dense one as m^2 ~ n
 /// (a boundary's unknowns), so the break-even comes late.
