@@ -364,6 +364,33 @@ fn distributed_schur_equals_centralized() {
     }
 }
 
+/// The default layout of the Schur complement follows the rank count
+/// (`SCHUR_GRID_RANKS`): on rank 0 on 2 ranks, on ScaLAPACK's grid on 4;
+/// the same contact stresses either way.
+#[test]
+fn schur_grid_is_the_default_from_four_ranks() {
+    let scene = [
+        "-options_file",
+        "options/hertz",
+        "-mesh",
+        "meshes/hertz_1692.msh",
+        "-ubr_lambda_rtol",
+        "1e-10",
+    ];
+    let (two, _, rows2) = solve_rows("grid_default_2", 2, &scene);
+    assert!(two.stdout.contains("condensed on"), "{}", two.stdout);
+    assert!(!two.stdout.contains("ScaLAPACK"), "{}", two.stdout);
+    let (four, _, rows4) = solve_rows("grid_default_4", 4, &scene);
+    assert!(
+        four.stdout
+            .contains("factorized and solved there by ScaLAPACK"),
+        "{}",
+        four.stdout
+    );
+    let e = max_pressure_gap(&rows4, &rows2);
+    assert!(e <= 1e-10, "2 and 4 ranks differ by {e:.2e}");
+}
+
 /// Full solves with MUMPS' distributed right-hand sides and solutions
 /// (the default; issue "Scaling studies", item 3) against the centralized
 /// ones (`-ubr_mumps_rhs centralized`): the same contact stresses and
