@@ -19,9 +19,9 @@ use crate::petsc::{self, options, sys, Ksp, Matrix, NullSpace, Vector};
 /// Default largest number of contact unknowns for the condensed back-end
 /// (MUMPS called directly: the Schur unknowns last, u_n alone when
 /// frictionless along an axis), in 2D and 3D, frictionless and with
-/// friction (every component, and Tresca's or CF-FP's 100-250 iterations
-/// against 30-70). Above it the dense m^3/3 of the Schur block (on rank 0)
-/// and the larger sparse factorization (the Schur unknowns ride up to the
+/// friction (every component, and often 100-250 iterations against
+/// 30-70). Above it the dense m^3/3 of the Schur block (on rank 0 below
+/// [`SCHUR_GRID_RANKS`]) and the larger sparse factorization (the Schur unknowns ride up to the
 /// root) cost more than the full sparse solves they save. Measured
 /// (factorization + r choice + iterations, full against condensed):
 /// - 1 rank: 2D hertz_37473 (329 unknowns) 2.2 -> 0.7 s; 3D block3d_2357
