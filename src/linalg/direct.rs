@@ -692,7 +692,7 @@ impl Direct {
                 g.rhs_mut()
                     .copy_from_slice(&self.mumps.redrhs_mut()[..sp.m]);
             }
-            g.solve_gathered(world, false)?;
+            g.solve_gathered(false)?;
             sp.layout.scatter(world, g.rhs_mut(), x);
             return Ok(());
         }
