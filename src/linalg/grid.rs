@@ -231,38 +231,29 @@ impl GridSchur {
     /// The descriptors of S (m x m) and of a vector (m x 1), in blocks of
     /// `nb`, leading dimension m (one process row holds every row).
     fn describe(&mut self, nb: usize) -> bool {
-        let (m, one, nb, zero, lld) =
-            (self.m as c_int, 1 as c_int, nb as c_int, 0, self.m as c_int);
-        let (mut info_a, mut info_b) = (0, 0);
-        // SAFETY: two 9-integer descriptors, every other argument a live
-        // integer (descinit_ reads them by reference).
-        unsafe {
-            (self.api.desc_init)(
-                self.desc.as_mut_ptr(),
-                &m,
-                &m,
-                &nb,
-                &nb,
-                &zero,
-                &zero,
-                &self.ctx,
-                &lld,
-                &mut info_a,
-            );
-            (self.api.desc_init)(
-                self.desc_b.as_mut_ptr(),
-                &m,
-                &one,
-                &nb,
-                &nb,
-                &zero,
-                &zero,
-                &self.ctx,
-                &lld,
-                &mut info_b,
-            );
-        }
-        info_a == 0 && info_b == 0
+        let (m, nb, zero, ctx) = (self.m as c_int, nb as c_int, 0, self.ctx);
+        let desc_init = self.api.desc_init;
+        let init = |desc: &mut Desc, cols: c_int| {
+            let mut info = 0;
+            // SAFETY: a 9-integer descriptor, every other argument a live
+            // integer (descinit_ reads them by reference).
+            unsafe {
+                desc_init(
+                    desc.as_mut_ptr(),
+                    &m,
+                    &cols,
+                    &nb,
+                    &nb,
+                    &zero,
+                    &zero,
+                    &ctx,
+                    &m,
+                    &mut info,
+                )
+            };
+            info == 0
+        };
+        init(&mut self.desc, m) & init(&mut self.desc_b, 1)
     }
 
     /// The factor at the assembled r from `raw` (this rank's columns of S
