@@ -295,6 +295,19 @@ fn refactorization_of_the_trimmed_input() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The 2D Hertz scene of 1692 nodes at a tight tolerance.
+const HERTZ_TIGHT: &[&str] = &[
+    "-options_file",
+    "options/hertz",
+    "-mesh",
+    "meshes/hertz_1692.msh",
+    "-ubr_lambda_rtol",
+    "1e-10",
+];
+
+/// What the summary says of a Schur complement on ScaLAPACK's grid.
+const ON_THE_GRID: &str = "factorized and solved there by ScaLAPACK";
+
 /// `-ubr_schur_distributed 1` (issue "Scaling studies", item 2): MUMPS
 /// returns the Schur complement on a 1 x P grid, and ScaLAPACK factorizes
 /// it and solves with it there (the changes of r included: the Coulomb
@@ -305,14 +318,7 @@ fn refactorization_of_the_trimmed_input() {
 #[test]
 fn distributed_schur_equals_centralized() {
     let scenes: [&[&str]; 3] = [
-        &[
-            "-options_file",
-            "options/hertz",
-            "-mesh",
-            "meshes/hertz_1692.msh",
-            "-ubr_lambda_rtol",
-            "1e-10",
-        ],
+        HERTZ_TIGHT,
         &[
             "-options_file",
             "options/block3d",
@@ -341,8 +347,9 @@ fn distributed_schur_equals_centralized() {
             args.extend_from_slice(&["-ubr_schur_distributed", "1"]);
             let (run, _, dist) = solve_rows(&format!("schur_d{k}_{ranks}"), ranks, &args);
             assert!(
-                run.stdout
-                    .contains("the Schur complement from MUMPS distributed over the ranks, factorized and solved there by ScaLAPACK"),
+                run.stdout.contains(&format!(
+                    "the Schur complement from MUMPS distributed over the ranks, {ON_THE_GRID}"
+                )),
                 "{}",
                 run.stdout
             );
@@ -369,24 +376,12 @@ fn distributed_schur_equals_centralized() {
 /// the same contact stresses either way.
 #[test]
 fn schur_grid_is_the_default_from_four_ranks() {
-    let scene = [
-        "-options_file",
-        "options/hertz",
-        "-mesh",
-        "meshes/hertz_1692.msh",
-        "-ubr_lambda_rtol",
-        "1e-10",
-    ];
-    let (two, _, rows2) = solve_rows("grid_default_2", 2, &scene);
+    let scene = HERTZ_TIGHT;
+    let (two, _, rows2) = solve_rows("grid_default_2", 2, scene);
     assert!(two.stdout.contains("condensed on"), "{}", two.stdout);
     assert!(!two.stdout.contains("ScaLAPACK"), "{}", two.stdout);
-    let (four, _, rows4) = solve_rows("grid_default_4", 4, &scene);
-    assert!(
-        four.stdout
-            .contains("factorized and solved there by ScaLAPACK"),
-        "{}",
-        four.stdout
-    );
+    let (four, _, rows4) = solve_rows("grid_default_4", 4, scene);
+    assert!(four.stdout.contains(ON_THE_GRID), "{}", four.stdout);
     let e = max_pressure_gap(&rows4, &rows2);
     assert!(e <= 1e-10, "2 and 4 ranks differ by {e:.2e}");
 }
