@@ -313,11 +313,12 @@ const ON_THE_GRID: &str = "factorized and solved there by ScaLAPACK";
 /// it and solves with it there (the changes of r included: the Coulomb
 /// scene's automatic r moves). The same contact stresses as the
 /// centralized Schur complement (`-ubr_schur_distributed 0`) to round-off,
-/// on 2, 3 and 4 ranks, 2D and 3D, frictionless and Coulomb, and the
-/// summary says which layout ran.
+/// on 2, 3 and 4 ranks, 2D and 3D, frictionless, Coulomb and Tresca (whose
+/// whole solves condense several columns at once), and the summary says
+/// which layout ran.
 #[test]
 fn distributed_schur_equals_centralized() {
-    let scenes: [&[&str]; 3] = [
+    let scenes: [&[&str]; 4] = [
         HERTZ_TIGHT,
         &[
             "-options_file",
@@ -330,6 +331,14 @@ fn distributed_schur_equals_centralized() {
         &[
             "-options_file",
             "options/block3d-coulomb",
+            "-mesh",
+            "meshes/block3d_739.msh",
+            "-ubr_lambda_rtol",
+            "1e-10",
+        ],
+        &[
+            "-options_file",
+            "options/block3d-tresca",
             "-mesh",
             "meshes/block3d_739.msh",
             "-ubr_lambda_rtol",

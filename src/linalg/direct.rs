@@ -598,6 +598,10 @@ impl Direct {
         // The dense solves on the host; their failure is made collective
         // before the next MUMPS call.
         let sp = self.schur.as_mut().expect("condensed");
+        if let Some(g) = sp.grid.as_mut() {
+            g.solve_reduced(self.mumps.redrhs_mut(), k)?;
+            return self.mumps_expand(world, cols, k);
+        }
         let mut status = 0.0f64;
         if host {
             let s = sp.s.as_ref().expect("the host has S");
@@ -688,12 +692,9 @@ impl Direct {
         self.reduced = keep;
         let sp = self.schur.as_mut().expect("condensed");
         if let Some(g) = sp.grid.as_mut() {
-            if host {
-                g.rhs_mut()
-                    .copy_from_slice(&self.mumps.redrhs_mut()[..sp.m]);
-            }
-            g.solve_gathered(false)?;
-            sp.layout.scatter(world, g.rhs_mut(), x);
+            let red = self.mumps.redrhs_mut();
+            g.solve_reduced(red, 1)?;
+            sp.layout.scatter(world, &red[..red.len().min(sp.m)], x);
             return Ok(());
         }
         let failed = host && {

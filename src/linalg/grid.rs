@@ -146,6 +146,8 @@ pub(super) struct GridSchur {
     shifted_on: bool,
     /// A right-hand side and its solution (rank 0's is the grid's vector).
     b: Vec<f64>,
+    /// Whether this is rank 0.
+    host: bool,
 }
 
 impl Drop for GridSchur {
@@ -216,6 +218,7 @@ impl GridSchur {
             shifted: Vec::new(),
             shifted_on: false,
             b: vec![0.0; m],
+            host: rank == 0,
         };
         let ok = grid.describe(nb);
         let bad = allreduce_max(world, if ok { 0.0 } else { 1.0 });
@@ -357,8 +360,8 @@ impl GridSchur {
     }
 
     /// The solve of [`GridSchur::solve`] with the right-hand side already
-    /// in rank 0's [`GridSchur::rhs_mut`], the solution left there.
-    pub fn solve_gathered(&mut self, current: bool) -> Result<(), Error> {
+    /// in rank 0's `b`, the solution left there.
+    fn solve_gathered(&mut self, current: bool) -> Result<(), Error> {
         let f = if current && self.shifted_on {
             &self.shifted
         } else {
@@ -396,9 +399,22 @@ impl GridSchur {
         Ok(())
     }
 
-    /// Rank 0's right-hand side and solution array (m values).
-    pub fn rhs_mut(&mut self) -> &mut [f64] {
-        &mut self.b
+    /// Solves with S at the assembled r each of the `k` columns of `red`
+    /// (m values each, column-major; rank 0's are read and overwritten by
+    /// the solutions, the other ranks' unread: they may be empty): MUMPS' reduced right-hand
+    /// sides. Collective: every rank takes part in each column's solve.
+    pub fn solve_reduced(&mut self, red: &mut [f64], k: usize) -> Result<(), Error> {
+        let (m, host) = (self.m, self.host);
+        for j in 0..k {
+            if host {
+                self.b.copy_from_slice(&red[j * m..(j + 1) * m]);
+            }
+            self.solve_gathered(false)?;
+            if host {
+                red[j * m..(j + 1) * m].copy_from_slice(&self.b);
+            }
+        }
+        Ok(())
     }
 
     /// `S_a y` for this rank's part `y` (`layout`) into `out`: every rank
