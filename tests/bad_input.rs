@@ -585,6 +585,50 @@ fn solver_package_not_installed() {
     );
 }
 
+/// MUMPS' parallel analysis (`-mat_mumps_icntl_28 2`, which a scaling
+/// study tries): with the Schur complement MUMPS refuses it (INFOG(1) =
+/// -39), said before the analysis; without it, a MUMPS with no parallel
+/// ordering tool (Debian's plain build) stopped the process in the Fortran
+/// runtime ("Unit number is negative", MUMPS writing to the error stream the
+/// program closes) and now names what is missing; a MUMPS that has one
+/// (PT-Scotch or ParMETIS) solves, and the summary says so.
+#[test]
+fn parallel_analysis_says_what_stops_it() {
+    for ranks in [1, 2, 3] {
+        expect_bad_on(
+            ranks,
+            "icntl28-schur",
+            &hertz(&["-mat_mumps_icntl_28", "2"]),
+            &[
+                "option -mat_mumps_icntl_28 2",
+                "Schur",
+                "-ubr_condense_max 0",
+            ],
+        );
+    }
+    let args = hertz(&["-mat_mumps_icntl_28", "2", "-ubr_condense_max", "0"]);
+    for ranks in [1, 2] {
+        let run = mpirun(ranks, &args);
+        if run.status == Some(0) {
+            assert!(
+                run.stdout
+                    .contains("MUMPS' parallel analysis (-mat_mumps_icntl_28 2), ordered by"),
+                "{}",
+                run.stdout
+            );
+        } else {
+            assert_refused(
+                &format!("icntl28 (-n {ranks})"),
+                &run,
+                &[
+                    "option -mat_mumps_icntl_28 2",
+                    "built without PT-Scotch and ParMETIS",
+                ],
+            );
+        }
+    }
+}
+
 /// Unknown solver names, and values PETSc cannot read, name the option.
 #[test]
 fn petsc_solver_options_are_bad_input() {

@@ -27,7 +27,8 @@
 //!
 //! The usual `-mat_mumps_icntl_N` / `-mat_mumps_cntl_N` options are passed
 //! on, except those this back-end sets: 5, 18 (input format), 19, 26 (Schur),
-//! 20, 21 (right-hand sides and solutions), and 28 with METIS;
+//! 20, 21 (right-hand sides and solutions), and 28 with METIS (28 = 2:
+//! MUMPS' own parallel analysis, [`super::ordering::mumps_parallel`]);
 //! `-mat_mumps_icntl_7 1` asks for METIS, `-mat_mumps_icntl_7 K` with K
 //! other than 1 for MUMPS' own ordering K (with a Schur complement MUMPS
 //! may replace it by AMD).
@@ -42,12 +43,9 @@ use crate::dense::{sym_upper_mv, SpdFactor};
 use crate::error::Error;
 use crate::fem::Adjacency;
 use crate::mesh::distribute::LocalMesh;
-use crate::mumps::Mumps;
+use crate::mumps::{Mumps, OWNED_ICNTL};
 use crate::petsc::{options, LogEvent, Matrix};
 use mpi::traits::*;
-
-/// ICNTL entries this back-end sets itself.
-const OWNED_ICNTL: [usize; 6] = [5, 18, 19, 20, 21, 26];
 
 /// The contact part: the Schur complement on the host.
 struct SchurPart {
@@ -418,8 +416,10 @@ impl Direct {
         }
         let schur_nodes: &[usize] = if condense { &contact_global } else { &[] };
         // The analysis may fail as the factorization may (memory): kept too.
-        let analysis = prepared
-            .and_then(|()| choose_ordering(world, &mut mumps, mesh, adjacency, schur_nodes, comps));
+        let analysis = prepared.and_then(|()| match mumps.icntl(28) {
+            2 => super::ordering::mumps_parallel(&mut mumps, condense),
+            _ => choose_ordering(world, &mut mumps, mesh, adjacency, schur_nodes, comps),
+        });
         // A distributed Schur complement: each rank's part, sized now.
         let analysis = analysis.and_then(|ordering| {
             if condense && distributed {

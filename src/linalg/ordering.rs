@@ -23,6 +23,8 @@ use crate::comm::{allreduce_max, Layout};
 use crate::error::Error;
 use crate::fem::Adjacency;
 use crate::mesh::distribute::LocalMesh;
+use crate::mumps::Mumps;
+use crate::petsc::{options, LogEvent};
 use mpi::traits::*;
 
 /// The tree node of the rank range where ranks `a` and `b` part: its range
@@ -280,6 +282,52 @@ pub fn dof_permutation(
         }
     }
     perm_in
+}
+
+/// MUMPS' own parallel analysis (`-mat_mumps_icntl_28 2`) instead of the
+/// program's ordering, which MUMPS analyses sequentially only. Refused with
+/// the Schur complement, which MUMPS refuses with it (INFOG(1) = -39).
+/// Without `-mat_mumps_icntl_29` (or with 0) PT-Scotch and then ParMETIS
+/// are tried: MUMPS' own choice (ICNTL(29) = 0), in a MUMPS with neither
+/// (Debian's plain build), writes to its error stream, which the program
+/// closes, and the process dies in the Fortran runtime. Collective;
+/// returns the ordering's description.
+pub fn mumps_parallel(mumps: &mut Mumps, condensed: bool) -> Result<String, Error> {
+    if condensed {
+        return Err(Error::BadInput(
+            "option -mat_mumps_icntl_28 2: MUMPS' parallel analysis cannot be used with the Schur complement on the contact unknowns (MUMPS stops with INFOG(1) = -39); add -ubr_condense_max 0 (a full sparse solve per UBR iteration), or leave ICNTL(28) to the program".into(),
+        ));
+    }
+    let given = options::get_string("-mat_mumps_icntl_29")?.is_some() && mumps.icntl(29) != 0;
+    let tools = if given {
+        vec![mumps.icntl(29)]
+    } else {
+        vec![1, 2]
+    };
+    let name = |t: i32| match t {
+        1 => "PT-Scotch",
+        2 => "ParMETIS",
+        _ => "MUMPS' choice",
+    };
+    let _e = LogEvent::register("MUMPSAnalysis")?.begin();
+    for &t in &tools {
+        mumps.set_icntl(29, t);
+        match mumps.analyse() {
+            Ok(()) => {
+                return Ok(format!(
+                    "MUMPS' parallel analysis (-mat_mumps_icntl_28 2), ordered by {}",
+                    name(t)
+                ))
+            }
+            Err(_) if mumps.infog(1) == -38 => continue,
+            Err(e) => return Err(e),
+        }
+    }
+    let tried: Vec<&str> = tools.iter().map(|&t| name(t)).collect();
+    Err(Error::BadInput(format!(
+        "option -mat_mumps_icntl_28 2: this MUMPS was built without {} (MUMPS stops with INFOG(1) = -38); Debian's libmumps-ptscotch has PT-Scotch (README), or leave ICNTL(28) to the program",
+        tried.join(" and ")
+    )))
 }
 
 #[cfg(test)]

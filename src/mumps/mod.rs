@@ -35,6 +35,11 @@ macro_rules! icntl {
     };
 }
 
+/// The ICNTL entries the direct back-end (`linalg/direct.rs`) sets itself:
+/// the input (5, 18), the Schur complement (19, 26), the right-hand sides
+/// and solutions (20, 21); `-mat_mumps_icntl_N` does not reach them.
+pub const OWNED_ICNTL: [usize; 6] = [5, 18, 19, 20, 21, 26];
+
 /// What a negative INFOG(1) means (MUMPS 5.5 user guide, section 8).
 fn meaning(code: i32, info2: i32) -> String {
     match code {

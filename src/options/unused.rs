@@ -172,11 +172,23 @@ pub fn declared(name: &str) -> bool {
         .any(|o| o.name() == name || o.prefix().is_some_and(|p| name.starts_with(p)))
 }
 
+/// The N of `-mat_mumps_icntl_N` when the direct solver sets ICNTL(N)
+/// itself (it then reads no such option).
+fn owned_icntl(name: &str) -> Option<usize> {
+    let i: usize = name.strip_prefix("-mat_mumps_icntl_")?.parse().ok()?;
+    crate::mumps::OWNED_ICNTL.contains(&i).then_some(i)
+}
+
 /// The warning line for an unused option.
 pub fn message(name: &str, used: &[String]) -> String {
     if declared(name) {
         return format!(
             "warning: option {name} was not used: the option it goes with is not given, or another overrides it (-help)"
+        );
+    }
+    if let Some(i) = owned_icntl(name) {
+        return format!(
+            "warning: option {name} was not used: MUMPS called directly (the default direct solver) has ICNTL({i}) set by ubr-petsc (5, 18: the input; 19, 26: the Schur complement, -ubr_schur_distributed; 20, 21: the right-hand sides, -ubr_mumps_rhs)"
         );
     }
     if solver_option(name) {
@@ -331,6 +343,10 @@ mod tests {
             Some("-density_soft")
         );
         assert!(!looks_ours("-pc_mg_levels", &none));
+        // The MUMPS controls the direct solver sets: said so, no suggestion.
+        assert_eq!(owned_icntl("-mat_mumps_icntl_19"), Some(19));
+        assert_eq!(owned_icntl("-mat_mumps_icntl_14"), None);
+        assert!(message("-mat_mumps_icntl_19", &none).contains("ICNTL(19) set by ubr-petsc"));
     }
 
     #[test]
