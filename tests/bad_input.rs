@@ -629,6 +629,32 @@ fn parallel_analysis_says_what_stops_it() {
     }
 }
 
+/// MUMPS controls that change what a solve returns (a null-space basis,
+/// entries of the inverse, discarded factors, a forward elimination during
+/// the factorization) ended after the factorization with a bare INFOG(1)
+/// (exit 3), or PETSc's interface aborted: refused before any work, on
+/// either path.
+#[test]
+fn mumps_controls_that_change_the_solves() {
+    for (icntl, value, path, needle) in [
+        ("25", "-1", "1", "null space"),
+        ("30", "1", "1", "inverse"),
+        ("31", "1", "1", "discards"),
+        ("32", "1", "1", "forward elimination"),
+        ("25", "-1", "0", "null space"),
+        ("31", "2", "0", "discards"),
+    ] {
+        let name = format!("-mat_mumps_icntl_{icntl}");
+        let args = hertz(&[&name, value, "-ubr_mumps_direct", path]);
+        expect_bad_on(
+            2,
+            &format!("icntl{icntl}-{path}"),
+            &args,
+            &[&format!("option {name} {value}"), needle],
+        );
+    }
+}
+
 /// Unknown solver names, and values PETSc cannot read, name the option.
 #[test]
 fn petsc_solver_options_are_bad_input() {

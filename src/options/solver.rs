@@ -35,7 +35,41 @@ pub fn check(ranks: usize) -> Result<Vec<String>, Error> {
         known("-pc_type", p, &registry::pc_types()?, "preconditioner")?;
     }
     factorization(pc.as_deref(), ranks)?;
+    mumps_solve_controls()?;
     registry::read_solver_options().map_err(|m| Error::BadInput(petsc_message(&m)))
+}
+
+/// MUMPS controls that change what a solve returns, which the program
+/// takes for the solution of `K u = f`, and their values that do: with
+/// them every solver path failed after the factorization, with a bare
+/// INFOG(1) (-37, -44, -48, -22; exit 3), or PETSc's interface aborted.
+const MUMPS_SOLVE_CONTROLS: [(usize, &str); 4] = [
+    (25, "makes a solve return a basis of the null space"),
+    (30, "makes a solve compute entries of the inverse"),
+    (31, "discards factors the solves need"),
+    (
+        32,
+        "does the forward elimination during the factorization, on right-hand sides the program has not made yet",
+    ),
+];
+
+/// Refuses the values of [`MUMPS_SOLVE_CONTROLS`] that change the solves:
+/// any but 0 (ICNTL(31) = 2 passed with MUMPS' Cholesky, but an LU through
+/// PETSc's interface then failed in its solve, INFOG(1) = -44).
+fn mumps_solve_controls() -> Result<(), Error> {
+    for (i, what) in MUMPS_SOLVE_CONTROLS {
+        let name = format!("-mat_mumps_icntl_{i}");
+        let Some(v) = word(&name)? else { continue };
+        let Ok(k) = v.parse::<i32>() else {
+            return bad(format!("option {name}: '{v}' is not an integer"));
+        };
+        if k != 0 {
+            return bad(format!(
+                "option {name} {k}: ICNTL({i}) {what}; the program needs MUMPS' plain solves (leave the option out)"
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn known(option: &str, value: &str, types: &[String], what: &str) -> Result<(), Error> {
