@@ -72,3 +72,45 @@ fn scaling_study_of_an_options_file() {
     );
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// Arguments a user mistypes are refused in one line naming the argument,
+/// before any run: `--ranks 1,x` and `--repeat 0` ended in a Python
+/// traceback, and `--max-ranks 0`, `--cores 0` and `--nodes-per-rank -5`
+/// started a study anyway (the last with a 4-unit mesh size).
+#[test]
+fn scaling_arguments_are_checked() {
+    for (args, needle) in [
+        (&["--ranks", "1,x"][..], "--ranks '1,x'"),
+        (&["--repeat", "0"][..], "--repeat 0: must be at least 1"),
+        (
+            &["--max-ranks", "0"][..],
+            "--max-ranks 0: must be at least 1",
+        ),
+        (&["--cores", "0"][..], "--cores 0: must be at least 1"),
+        (&["--nodes-per-rank", "-5"][..], "--nodes-per-rank: '-5'"),
+        (
+            &["--nodes-per-rank", "hertz2d=abc"][..],
+            "--nodes-per-rank (scene hertz2d): 'abc'",
+        ),
+        (
+            &["--mesh-h", "0"][..],
+            "--mesh-h: '0' is not a positive number",
+        ),
+    ] {
+        let run = Command::new(root().join("bench/scaling"))
+            .current_dir(root())
+            .args(args)
+            .args(["--dry-run", "--bin", BIN])
+            .output()
+            .expect("bench/scaling runs (python3)");
+        let stdout = String::from_utf8_lossy(&run.stdout);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(!run.status.success(), "{args:?}: accepted\n{stdout}");
+        assert!(stderr.contains(needle), "{args:?}: {stderr}");
+        assert!(!stderr.contains("Traceback"), "{args:?}: {stderr}");
+        assert!(
+            !stdout.contains("mpirun"),
+            "{args:?}: runs listed\n{stdout}"
+        );
+    }
+}
