@@ -54,14 +54,13 @@ struct SchurPart {
     /// each factorization) or centralized.
     distributed: bool,
     layout: Layout,
-    /// Host: S at the assembled r (unfactored; its upper triangle,
-    /// column-major, as MUMPS returns it) and factorized, and S at the
-    /// current r when it differs (`shifted_on`; its factor's array is kept
-    /// for the next change of r).
-    s_raw: Vec<f64>,
+    /// Host: the factor of S at the assembled r (S itself, unfactored, is
+    /// read where MUMPS returned it, [`host_schur`]: products and shifts),
+    /// and of S at the current r when it differs (`shifted_on`; its array
+    /// is kept for the next change of r).
     s: Option<SpdFactor>,
     /// Distributed: S's factors on every rank instead (S itself stays in
-    /// MUMPS' array); `s_raw`, `s` and `shifted` are then empty.
+    /// MUMPS' array); `s` and `shifted` are then empty.
     grid: Option<GridSchur>,
     shifted: Option<SpdFactor>,
     shifted_on: bool,
@@ -467,7 +466,7 @@ impl Direct {
         }
         if condense {
             let _e = LogEvent::register("SchurFactor")?.begin();
-            let (s_raw, s, grid) = match first_factors(world, &direct.mumps, m, distributed) {
+            let (s, grid) = match first_factors(world, &direct.mumps, m, distributed) {
                 Ok(f) => f,
                 Err(e) => return Direct::failed(direct, e),
             };
@@ -475,7 +474,6 @@ impl Direct {
                 m,
                 distributed,
                 layout: Layout::new(world, surface.cs.len() * comps.len()),
-                s_raw,
                 s,
                 grid,
                 shifted: None,
@@ -784,7 +782,7 @@ impl Direct {
         let mut prod = Vec::new();
         if world.rank() == 0 {
             prod = vec![0.0; sp.m];
-            sym_upper_mv(sp.m, &sp.s_raw, &all, &mut prod);
+            sym_upper_mv(sp.m, host_schur(&self.mumps), &all, &mut prod);
         }
         sp.layout.scatter(world, &prod, out);
     }
@@ -814,7 +812,7 @@ impl Direct {
             // of S_a, the blocks added to its upper triangle, factorized.
             let mut f = sp.shifted.take().unwrap_or_default();
             let ok = f
-                .refactor_with(m, &sp.s_raw, |s| {
+                .refactor_with(m, host_schur(&self.mumps), |s| {
                     for (i, b) in all.chunks(d * d).enumerate() {
                         for a in 0..d {
                             for c in a..d {
@@ -879,8 +877,8 @@ impl Direct {
                 }
                 // The old factor goes first (the host holds one S at a time).
                 sp.s = None;
-                let (s_raw, s, failed) = schur_factor(world, host_schur(&self.mumps), sp.m);
-                (sp.s_raw, sp.s, sp.shifted_on) = (s_raw, s, false);
+                let (s, failed) = schur_factor(world, host_schur(&self.mumps), sp.m);
+                (sp.s, sp.shifted_on) = (s, false);
                 host_verdict(world, failed)
             }
             None => Ok(()),

@@ -18,26 +18,25 @@ pub(super) fn schur_memory(m: usize, bytes: usize) -> Error {
     ))
 }
 
-/// The host's Schur complement as MUMPS returned it, its dense Cholesky
-/// factor, and the host's error when the factorization fails (a matrix
-/// that is not positive definite: `K_r` singular or nearly so).
+/// The dense Cholesky factor of the host's Schur complement (a copy of
+/// MUMPS' array `upper`, which stays as it is: products and shifts read
+/// it), and the host's error when the factorization fails (a matrix that
+/// is not positive definite: `K_r` singular or nearly so).
 pub(super) fn schur_factor<C: Communicator>(
     world: &C,
     upper: &[f64],
     m: usize,
-) -> (Vec<f64>, Option<SpdFactor>, Option<Error>) {
+) -> (Option<SpdFactor>, Option<Error>) {
     if world.rank() != 0 {
-        return (Vec::new(), None, None);
+        return (None, None);
     }
-    let copies = crate::dense::try_copy(upper)
-        .and_then(|s_raw| Ok((crate::dense::try_copy(&s_raw)?, s_raw)));
-    let (s, s_raw) = match copies {
-        Ok(c) => c,
-        Err(bytes) => return (Vec::new(), None, Some(schur_memory(m, bytes))),
+    let s = match crate::dense::try_copy(upper) {
+        Ok(s) => s,
+        Err(bytes) => return (None, Some(schur_memory(m, bytes))),
     };
     match SpdFactor::new(m, s) {
-        Ok(f) => (s_raw, Some(f), None),
-        Err(k) => (s_raw, None, Some(Error::LinearSolver(format!(
+        Ok(f) => (Some(f), None),
+        Err(k) => (None, Some(Error::LinearSolver(format!(
             "the dense factorization of the Schur complement on the {m} contact unknowns failed (LAPACK's Cholesky: its leading minor of order {k} is not positive definite): the matrix K + r B^T W B is singular or nearly so"
         )))),
     }
@@ -62,11 +61,11 @@ pub(super) fn host_schur(mumps: &Mumps) -> &[f64] {
     mumps.schur_upper()
 }
 
-/// S on the host and its factor, or the grid that holds S's factors.
-pub(super) type Factors = (Vec<f64>, Option<SpdFactor>, Option<GridSchur>);
+/// S's factor on the host, or the grid that holds S's factors.
+pub(super) type Factors = (Option<SpdFactor>, Option<GridSchur>);
 
 /// The Schur complement's factors after MUMPS' first factorization: on
-/// the host (S as MUMPS returned it, and its LAPACK factor), or on the grid
+/// the host (its LAPACK factor; S stays in MUMPS' array), or on the grid
 /// (ScaLAPACK's, when `distributed`). Collective.
 pub(super) fn first_factors<C: Communicator>(
     world: &C,
@@ -77,9 +76,9 @@ pub(super) fn first_factors<C: Communicator>(
     if distributed {
         let comm = crate::petsc::comm_world();
         let grid = GridSchur::new(world, comm, mumps.schur_local(), m, SCHUR_BLOCK)?;
-        return Ok((Vec::new(), None, Some(grid)));
+        return Ok((None, Some(grid)));
     }
-    let (s_raw, s, failed) = schur_factor(world, host_schur(mumps), m);
+    let (s, failed) = schur_factor(world, host_schur(mumps), m);
     host_verdict(world, failed)?;
-    Ok((s_raw, s, None))
+    Ok((s, None))
 }
