@@ -878,7 +878,7 @@ impl Settings {
         };
         // What has no effect here, named now, before any work.
         let mut given = |name: &str| petsc::options::has_name(name).unwrap_or(false);
-        for (name, why) in inert::inert(&settings, &solver_read, &mut given) {
+        for (name, why) in inert::inert(&settings, &solver_read, ranks, &mut given) {
             unused::mark_named(&name);
             settings
                 .notes

@@ -175,3 +175,30 @@ fn byte_order_mark_is_skipped() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `-ubr_schur_distributed` (issue "Scaling studies") places the Schur
+/// complement of the condensed solves over the ranks: on one rank, or
+/// with `-ubr_condense_max 0`, it was ignored in silence; it is named. On
+/// two condensed ranks it chooses, and is not named.
+#[test]
+fn schur_layout_without_ranks_or_condensation() {
+    let args = [
+        "-options_file",
+        "options/hertz",
+        "-mesh",
+        "meshes/hertz_442.msh",
+        "-ubr_schur_distributed",
+        "1",
+    ];
+    let one = mpirun(1, &args);
+    named_once(&one, "-ubr_schur_distributed", "the run has one rank");
+    let full = hertz442(&["-ubr_schur_distributed", "1", "-ubr_condense_max", "0"]);
+    named_once(
+        &full,
+        "-ubr_schur_distributed",
+        "-ubr_condense_max 0 condenses nothing",
+    );
+    let two = hertz442(&["-ubr_schur_distributed", "1"]);
+    assert_eq!(two.status, Some(0), "{}", two.stderr);
+    not_named(&two, "-ubr_schur_distributed");
+}

@@ -12,10 +12,12 @@ use super::{Algorithm, Friction, Settings, StopRule, TrescaBound};
 
 /// (option, why it has no effect) for every option that `given` says the
 /// user gave and that has none in the scene of `s`, each once.
-/// `solver_read`: the options PETSc's linear solver reads (KSP, PC).
+/// `solver_read`: the options PETSc's linear solver reads (KSP, PC);
+/// `ranks`: the run's rank count.
 pub fn inert(
     s: &Settings,
     solver_read: &[String],
+    ranks: usize,
     given: &mut dyn FnMut(&str) -> bool,
 ) -> Vec<(String, String)> {
     let mut r = Rules {
@@ -25,6 +27,9 @@ pub fn inert(
     algorithm_rules(&mut r, s);
     friction_rules(&mut r, s);
     ubr_rules(&mut r, s, solver_read);
+    if s.algorithm == Algorithm::Ubr && s.linear.mumps_direct() {
+        layout_rules(&mut r, s, ranks);
+    }
     scene_rules(&mut r, s);
     r.out
 }
@@ -169,6 +174,24 @@ fn ubr_rules(r: &mut Rules, s: &Settings, solver_read: &[String]) {
                 "it applies to iterative solvers (a -ksp_type other than preonly), and the linear solver is a direct one",
             );
         }
+    }
+}
+
+/// Where the condensed solve's Schur complement lies (MUMPS driven by the
+/// program): nowhere without condensation, on the one rank of a one-rank
+/// run.
+fn layout_rules(r: &mut Rules, s: &Settings, ranks: usize) {
+    if s.ubr.condense_max == Some(0) {
+        r.rule(
+            &[UBR_SCHUR_DISTRIBUTED.name],
+            "it places the Schur complement of the condensed solves, and -ubr_condense_max 0 condenses nothing",
+        );
+    }
+    if ranks == 1 {
+        r.rule(
+            &[UBR_SCHUR_DISTRIBUTED.name],
+            "it chooses where the Schur complement lies on several ranks, and the run has one rank, which holds it",
+        );
     }
 }
 
