@@ -102,3 +102,21 @@ fn superlu_dist_runs_one_thread() {
     );
     assert_eq!(run(Some("1")).status, Some(0));
 }
+
+/// MUMPS' own failures through PETSc's interface (`-ubr_mumps_direct 0`)
+/// ended as "DIVERGED_PC_FAILED (preconditioner failure reason 4)", exit 3,
+/// with nothing of what MUMPS said. Now its INFOG(1) and meaning are in the
+/// line, and a failure for memory (here ICNTL(23), a 1 MB cap per rank,
+/// INFOG(1) = -19) ends with exit 4, as with MUMPS driven by the program.
+#[test]
+fn mumps_failure_through_petsc_says_infog() {
+    let run = mpirun(
+        2,
+        &hertz(&["-ubr_mumps_direct", "0", "-mat_mumps_icntl_23", "1"]),
+    );
+    run.refused(
+        "ICNTL(23) 1 MB",
+        4,
+        &["MUMPS: INFOG(1) = -19", "-mat_mumps_icntl_23"],
+    );
+}

@@ -41,7 +41,7 @@ macro_rules! icntl {
 pub const OWNED_ICNTL: [usize; 6] = [5, 18, 19, 20, 21, 26];
 
 /// What a negative INFOG(1) means (MUMPS 5.5 user guide, section 8).
-fn meaning(code: i32, info2: i32) -> String {
+pub(crate) fn meaning(code: i32, info2: i32) -> String {
     match code {
         -1 => format!("an error on rank {info2}"),
         -2 => format!("NNZ out of range ({info2})"),
@@ -55,6 +55,9 @@ fn meaning(code: i32, info2: i32) -> String {
         -16 => format!("N out of range ({info2})"),
         -17 | -20 => "an internal communication buffer is too small; raise ICNTL(14)".to_string(),
         -22 => format!("an array is not allocated or too small (argument {info2})"),
+        -19 => format!("the factorization needs more memory on a rank than ICNTL(23) (-mat_mumps_icntl_23) allows (INFO(2) = {info2})"),
+        -38 => "a parallel analysis (ICNTL(28) = 2) needs PT-Scotch or ParMETIS, which this MUMPS was built without".to_string(),
+        -39 => "the parallel analysis (ICNTL(28) = 2) cannot be used with a Schur complement".to_string(),
         -40 => "the matrix was declared positive definite but a negative pivot was met".to_string(),
         _ => format!("INFO(2) = {info2}"),
     }

@@ -120,12 +120,68 @@ impl Ksp {
             // writes one enum.
             unsafe { sys::PCGetFailedReasonRank(pc, &mut why) };
             detail = format!(" (preconditioner failure reason {})", why as i32);
+            if let Some((said, memory)) = mumps_infog(pc) {
+                detail.push_str(&said);
+                if memory {
+                    return Error::OutOfMemory(format!(
+                        "the factorization of the linear solve failed: {name}{detail}"
+                    ));
+                }
+            }
         }
         Error::LinearSolver(format!(
             "linear solve failed after {its} iterations: {name}{detail}"
         ))
     }
+}
 
+/// What MUMPS said (INFOG(1), INFOG(2) and their meaning) when `pc` is a
+/// factorization by MUMPS (PETSc's interface, `-ubr_mumps_direct 0`): its
+/// own failures otherwise end as a bare "preconditioner failure reason".
+/// The calls are not checked: a failure leaves None. The flag: a failure
+/// for memory (INFOG(1) = -5, -7, -13, -19: exit 4, as with MUMPS driven by
+/// the program).
+fn mumps_infog(pc: sys::PC) -> Option<(String, bool)> {
+    let mut kind: sys::PCType = std::ptr::null();
+    // SAFETY: the KSP's live PC; PETSc writes the address of its type name.
+    unsafe { sys::PCGetType(pc, &mut kind) };
+    // SAFETY: null or one of PETSc's C strings.
+    let kind = unsafe { string_from(kind) };
+    if kind != "cholesky" && kind != "lu" {
+        return None;
+    }
+    let mut f: sys::Mat = std::ptr::null_mut();
+    // SAFETY: a factorization PC; PETSc writes its factored matrix
+    // (borrowed) or leaves null.
+    unsafe { sys::PCFactorGetMatrix(pc, &mut f) };
+    if f.is_null() {
+        return None;
+    }
+    let mut package: sys::MatSolverType = std::ptr::null();
+    // SAFETY: a live factored matrix; PETSc writes its package's name.
+    unsafe { sys::MatFactorGetSolverType(f, &mut package) };
+    // SAFETY: null or one of PETSc's C strings.
+    if unsafe { string_from(package) } != "mumps" {
+        return None;
+    }
+    let (mut code, mut info2): (sys::PetscInt, sys::PetscInt) = (0, 0);
+    // SAFETY: a MUMPS factor; PETSc writes one integer each.
+    unsafe { sys::MatMumpsGetInfog(f, 1, &mut code) };
+    // SAFETY: as above.
+    unsafe { sys::MatMumpsGetInfog(f, 2, &mut info2) };
+    // PetscInt is i64 in a PETSc built with 64-bit indices.
+    #[allow(clippy::unnecessary_cast)]
+    let (code, info2) = (code as i32, info2 as i32);
+    (code < 0).then(|| {
+        let said = format!(
+            "; MUMPS: INFOG(1) = {code}, {}",
+            crate::mumps::meaning(code, info2)
+        );
+        (said, matches!(code, -5 | -7 | -13 | -19))
+    })
+}
+
+impl Ksp {
     /// Keep the preconditioner when the operator's values change (the
     /// algebraic multigrid of `K + r B^T W B` serves another r as well).
     pub fn set_reuse_preconditioner(&self, yes: bool) -> Result<(), Error> {
