@@ -399,10 +399,11 @@ impl GridSchur {
         Ok(())
     }
 
-    /// Solves with S at the assembled r each of the `k` columns of `red`
-    /// (m values each, column-major; rank 0's are read and overwritten by
-    /// the solutions, the other ranks' unread: they may be empty): MUMPS' reduced right-hand
-    /// sides. Collective: every rank takes part in each column's solve.
+    /// Solves with S at the assembled r each of the `k` columns of `red`,
+    /// MUMPS' reduced right-hand sides (m values each, column-major; rank
+    /// 0's are read and overwritten by the solutions, the other ranks' are
+    /// unread and may be empty). Collective: every rank takes part in each
+    /// column's solve.
     pub fn solve_reduced(&mut self, red: &mut [f64], k: usize) -> Result<(), Error> {
         let (m, host) = (self.m, self.host);
         for j in 0..k {
