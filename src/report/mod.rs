@@ -238,7 +238,13 @@ pub fn mesh_label(source: &MeshSource) -> String {
     match source {
         MeshSource::File(p) => p.clone(),
         MeshSource::Generate { name, h, q1 } => format!(
-            "generated {name}, h = {h}{}",
+            "generated {name}, h = {}{}",
+            // Rust writes every digit of 1e300 in plain notation.
+            if (1e-4..1e6).contains(h) {
+                format!("{h}")
+            } else {
+                format!("{h:e}")
+            },
             match (q1, name.as_str()) {
                 (false, _) => "",
                 (true, "hertz2d") => ", quadrilaterals",
@@ -393,5 +399,20 @@ mod tests {
         let bad = dir.join("missing/out.json");
         assert!(write_atomic(&bad, b"{}").is_err());
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn mesh_label_writes_h_briefly() {
+        let label = |h: f64| {
+            mesh_label(&MeshSource::Generate {
+                name: "block3d".into(),
+                h,
+                q1: false,
+            })
+        };
+        assert_eq!(label(0.0333), "generated block3d, h = 0.0333");
+        assert_eq!(label(5.0), "generated block3d, h = 5");
+        assert_eq!(label(1e300), "generated block3d, h = 1e300");
+        assert_eq!(label(2.5e-5), "generated block3d, h = 2.5e-5");
     }
 }
