@@ -553,7 +553,10 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                 assembled.matrix_mallocs
             )));
         }
-        let problem = Problem::factorize(world, local, s, assembled, &self.stages)?;
+        let mut problem = Problem::factorize(world, local, s, assembled, &self.stages)?;
+        for w in std::mem::take(&mut problem.lin.warnings) {
+            self.warn(w);
+        }
         self.times.assembly = problem.time_assembly;
         self.times.factorization = problem.time_factorization;
         Ok(problem)

@@ -655,6 +655,29 @@ fn mumps_controls_that_change_the_solves() {
     }
 }
 
+/// MUMPS controls that choose among numbered methods: a value MUMPS does
+/// not have (it took -mat_mumps_icntl_7 9 for its default, AMD here, in
+/// silence) is refused on either path, naming the option and the range.
+#[test]
+fn mumps_choices_out_of_range() {
+    for (icntl, value, path, range) in [
+        ("7", "9", "1", "from 0 to 7"),
+        ("28", "3", "1", "from 0 to 2"),
+        ("29", "-1", "1", "from 0 to 2"),
+        ("12", "4", "0", "from 0 to 3"),
+        ("6", "8", "0", "from 0 to 7"),
+    ] {
+        let name = format!("-mat_mumps_icntl_{icntl}");
+        let args = hertz(&[&name, value, "-ubr_mumps_direct", path]);
+        expect_bad_on(
+            2,
+            &format!("choice{icntl}-{path}"),
+            &args,
+            &[&format!("option {name} {value}"), range],
+        );
+    }
+}
+
 /// Unknown solver names, and values PETSc cannot read, name the option.
 #[test]
 fn petsc_solver_options_are_bad_input() {

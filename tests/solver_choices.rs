@@ -120,3 +120,44 @@ fn mumps_failure_through_petsc_says_infog() {
         &["MUMPS: INFOG(1) = -19", "-mat_mumps_icntl_23"],
     );
 }
+
+/// An ordering `-mat_mumps_icntl_7 K` asked for that MUMPS replaced in
+/// silence (read back in INFOG(7)): with the Schur complement of the
+/// condensed contact unknowns MUMPS orders with AMD whatever K, and the
+/// summary used to name "ICNTL(7) = 4". Now the summary names what MUMPS
+/// used, a warning says why, and one honoured (QAMD, without condensation)
+/// is named without one. The answers stay the default's.
+#[test]
+fn mumps_ordering_replaced_is_named() {
+    let (_, _, reference) = solve_rows("default", 1, &hertz(&[]));
+    let (run, report, rows) = solve_rows("pord", 2, &hertz(&["-mat_mumps_icntl_7", "4"]));
+    assert!(report.converged, "{}", run.context());
+    assert!(
+        run.stdout
+            .contains("MUMPS' AMD in place of PORD (-mat_mumps_icntl_7 4; INFOG(7) = 0)"),
+        "{}",
+        run.context()
+    );
+    let warned = run.stderr_with("warning: -mat_mumps_icntl_7 4 asks for MUMPS' PORD ordering");
+    assert_eq!(warned.len(), 1, "{}", run.context());
+    assert!(warned[0].contains("Schur complement"), "{}", warned[0]);
+    assert!(max_pressure_gap(&rows, &reference) < 1e-5);
+
+    let (run, report, rows) = solve_rows(
+        "qamd",
+        1,
+        &hertz(&["-mat_mumps_icntl_7", "6", "-ubr_condense_max", "0"]),
+    );
+    assert!(report.converged, "{}", run.context());
+    assert!(
+        run.stdout.contains("MUMPS' QAMD (-mat_mumps_icntl_7 6)"),
+        "{}",
+        run.context()
+    );
+    assert!(
+        run.stderr_with("-mat_mumps_icntl_7").is_empty(),
+        "{}",
+        run.context()
+    );
+    assert!(max_pressure_gap(&rows, &reference) < 1e-5);
+}

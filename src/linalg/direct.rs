@@ -10,7 +10,8 @@
 //!   host), each node's dofs together, the contact unknowns last; given as
 //!   PERM_IN (ICNTL(7) = 1, sequential analysis ICNTL(28) = 1). In 3D
 //!   always; in 2D only where it pays for its own (sequential) time, judged
-//!   from the flops MUMPS' AMD ordering predicts ([`METIS_PAYS_2D`]).
+//!   from the flops MUMPS' AMD ordering predicts
+//!   ([`super::ordering::METIS_PAYS_2D`]).
 //! - Schur complement (when condensing): on the contact unknowns (candidate
 //!   by candidate, rank by rank), centralized on the host (ICNTL(19) = 1),
 //!   factorized there by LAPACK; or, from 4 ranks on
@@ -31,7 +32,7 @@
 //! MUMPS' own parallel analysis, [`super::ordering::mumps_parallel`]);
 //! `-mat_mumps_icntl_7 1` asks for METIS, `-mat_mumps_icntl_7 K` with K
 //! other than 1 for MUMPS' own ordering K (with a Schur complement MUMPS
-//! may replace it by AMD).
+//! replaces it by AMD: a warning says so).
 
 use super::distsol::DistSolve;
 use super::grid::GridSchur;
@@ -85,6 +86,8 @@ pub struct Direct {
     /// Flops of the factorization (RINFOG(3)) and the ordering used.
     pub flops: f64,
     pub ordering: String,
+    /// An ordering asked for that MUMPS replaced, for the run's warnings.
+    pub ordering_warning: Option<String>,
     /// Host: the gathered right-hand sides of a full solve, kept between
     /// solves (centralized right-hand sides only).
     all: Vec<f64>,
@@ -102,184 +105,6 @@ pub struct Direct {
     /// Why the factorization failed ([`Direct::failed`]): every solve
     /// returns it.
     failure: Option<Error>,
-}
-
-/// PERM_IN on the host (empty elsewhere): METIS nested dissection of the
-/// nodal graph, each node's `d` dofs in a row, except the Schur unknowns
-/// (components `comps` of the nodes `schur_nodes`, in that order), last.
-fn metis_order<C: Communicator>(
-    world: &C,
-    mesh: &LocalMesh,
-    (ptr, nbr): &Adjacency,
-    schur_nodes: &[usize],
-    comps: &[usize],
-) -> Result<Vec<i32>, Error> {
-    let d = mesh.dim;
-    // Each owned node's neighbours (global numbers), gathered on the host.
-    let mut flat: Vec<f64> = Vec::with_capacity(nbr.len() + mesh.owned_count); // node, count, neighbours... (exact in f64)
-    for a in 0..mesh.owned_count {
-        let row = &nbr[ptr[a]..ptr[a + 1]];
-        flat.push(mesh.node_global[a] as f64);
-        flat.push((row.len() - 1) as f64); // itself excluded
-        flat.extend(
-            row.iter()
-                .filter(|&&b| b as usize != a)
-                .map(|&b| mesh.node_global[b as usize] as f64),
-        );
-    }
-    let layout = Layout::new(world, flat.len());
-    let all = layout.gather(world, &flat);
-    drop(flat);
-    let order = if world.rank() == 0 {
-        host_order(&all, mesh.global_nodes, d, schur_nodes, comps)
-    } else {
-        Ok(Vec::new())
-    };
-    // METIS runs on the host alone: its failure is made collective.
-    let (verdict, order) = match order {
-        Ok(order) => (None, order),
-        Err(e) => (Some(e), Vec::new()),
-    };
-    host_verdict(world, verdict)?;
-    Ok(order)
-}
-
-/// [`metis_order`] on the host, from the gathered lists `all` (node,
-/// count, neighbours...).
-fn host_order(
-    all: &[f64],
-    n: usize,
-    d: usize,
-    schur_nodes: &[usize],
-    comps: &[usize],
-) -> Result<Vec<i32>, Error> {
-    let mut xadj: Vec<i32> = vec![0; n + 1];
-    let mut lists: Vec<Vec<i32>> = vec![Vec::new(); n];
-    let mut p = 0;
-    while p < all.len() {
-        let (g, k) = (all[p] as usize, all[p + 1] as usize);
-        lists[g] = all[p + 2..p + 2 + k].iter().map(|&x| x as i32).collect();
-        p += 2 + k;
-    }
-    let mut adjncy: Vec<i32> = Vec::new();
-    for (g, l) in lists.iter().enumerate() {
-        adjncy.extend_from_slice(l);
-        xadj[g + 1] = adjncy.len() as i32;
-    }
-    drop(lists);
-    let perm = super::ordering::metis_nd(&mut xadj, &mut adjncy)?;
-    let order: Vec<usize> = perm.iter().map(|&g| g as usize).collect();
-    Ok(super::ordering::dof_permutation(
-        &order,
-        n,
-        d,
-        schur_nodes,
-        comps,
-    ))
-}
-
-/// In 2D, METIS' nested dissection pays for its own time (it is sequential,
-/// about 3-7 us per node here) only when MUMPS' approximate minimum degree
-/// ordering predicts more than this many factorization flops per node.
-/// Measured (one rank; METIS saves 35-60% of the flops in 2D): Hertz meshes
-/// of 6,001 to 259,066 nodes predict 1.7e4 to 2.1e5 and are faster with AMD
-/// (hertz_37473: factorization phase 0.32 s against 0.41 s), at 909,078
-/// nodes (4.5e5) the two tie; a crowned Coulomb block of 114,646 nodes
-/// (2.6e5) is faster with METIS (1.87 s against 2.18 s). In 3D, METIS always
-/// (block3d_17887: 5.4e10 flops against 1.4e11 with AMD).
-pub const METIS_PAYS_2D: f64 = 2.5e5;
-
-/// With an ordering of ours (PERM_IN), MUMPS' symbolic factorization by
-/// column counts (ICNTL(58) = 2) unless `-mat_mumps_icntl_58` chooses: the
-/// analysis, sequential on the host, took 0.89 s instead of 1.26 s on 16
-/// ranks for the 582k-node 2D scene (2.8% more flops, the same numerical
-/// factorization time), and the 3D scene's flops were unchanged
-/// (bench/results/device16/2026-11-26-c-local.log).
-fn column_counts(mumps: &mut Mumps) -> Result<(), Error> {
-    if options::get_string("-mat_mumps_icntl_58")?.is_none() {
-        mumps.set_icntl(58, 2);
-    }
-    Ok(())
-}
-
-/// Analyses with the ordering the options ask for (`-mat_mumps_icntl_7 K`:
-/// 1 is METIS, others MUMPS' own K), else the one predicted faster: METIS
-/// in 3D; in 2D, MUMPS' AMD unless its predicted flops per node exceed
-/// [`METIS_PAYS_2D`] (then METIS, and the analysis again). Returns the
-/// ordering's description for the summary.
-fn choose_ordering<C: Communicator>(
-    world: &C,
-    mumps: &mut Mumps,
-    mesh: &LocalMesh,
-    adjacency: &Adjacency,
-    schur_nodes: &[usize],
-    comps: &[usize],
-) -> Result<String, Error> {
-    let ev_analysis = LogEvent::register("MUMPSAnalysis")?;
-    let metis = |mumps: &mut Mumps| -> Result<(), Error> {
-        let perm_in = {
-            let _e = LogEvent::register("METISOrdering")?.begin();
-            metis_order(world, mesh, adjacency, schur_nodes, comps)?
-        };
-        mumps.set_ordering(perm_in);
-        column_counts(mumps)?;
-        let _e = ev_analysis.begin();
-        mumps.analyse()
-    };
-    let user = options::get_string("-mat_mumps_icntl_7")?.map(|v| v.trim().to_string());
-    match user.as_deref() {
-        Some("1") => {
-            metis(mumps)?;
-            return Ok("METIS nested dissection (-mat_mumps_icntl_7 1)".into());
-        }
-        Some(k) => {
-            let k: i32 = k.parse().map_err(|_| {
-                Error::BadInput(format!(
-                    "option -mat_mumps_icntl_7: '{k}' is not an integer"
-                ))
-            })?;
-            mumps.set_icntl(7, k);
-            let _e = ev_analysis.begin();
-            mumps.analyse()?;
-            return Ok(format!("MUMPS ordering ICNTL(7) = {k}"));
-        }
-        None => {}
-    }
-    if world.size() > 1 {
-        // Several ranks: every rank orders its part at once (2D too: the
-        // sequential METIS' time is what made AMD the better choice there).
-        let perm_in = {
-            let _e = LogEvent::register("ParallelOrdering")?.begin();
-            super::ordering::parallel_nd(world, mesh, adjacency, schur_nodes, comps)?
-        };
-        mumps.set_ordering(perm_in);
-        column_counts(mumps)?;
-        let _e = ev_analysis.begin();
-        mumps.analyse()?;
-        return Ok(format!(
-            "nested dissection in parallel: METIS on each rank's part, the separators from the partition, over {} ranks",
-            world.size()
-        ));
-    }
-    if mesh.dim == 3 {
-        metis(mumps)?;
-        return Ok("METIS nested dissection".into());
-    }
-    mumps.set_icntl(7, 0);
-    {
-        let _e = ev_analysis.begin();
-        mumps.analyse()?;
-    }
-    let per_node = mumps.rinfog(1) / mesh.global_nodes.max(1) as f64;
-    if per_node <= METIS_PAYS_2D {
-        return Ok(format!(
-            "MUMPS' AMD: {per_node:.1e} flops per node, METIS pays above {METIS_PAYS_2D:.1e}"
-        ));
-    }
-    metis(mumps)?;
-    Ok(format!(
-        "METIS nested dissection: AMD predicted {per_node:.1e} flops per node, above {METIS_PAYS_2D:.1e}"
-    ))
 }
 
 /// A failure found on the host only (`failed` is read there), made
@@ -417,7 +242,7 @@ impl Direct {
         // The analysis may fail as the factorization may (memory): kept too.
         let analysis = prepared.and_then(|()| match mumps.icntl(28) {
             2 => super::ordering::mumps_parallel(&mut mumps, condense),
-            _ => choose_ordering(world, &mut mumps, mesh, adjacency, schur_nodes, comps),
+            _ => super::ordering::choose(world, &mut mumps, mesh, adjacency, schur_nodes, comps),
         });
         // A distributed Schur complement: each rank's part, sized now.
         let analysis = analysis.and_then(|ordering| {
@@ -434,6 +259,7 @@ impl Direct {
             Ok(ordering) => (ordering, Ok(())),
             Err(e) => ("not analysed".to_string(), Err(e)),
         };
+        let ordering_warning = super::ordering::replaced_ordering(&mumps, analysed.is_ok())?;
         let ev_factor = LogEvent::register("MUMPSFactorNum")?;
         let ev_solve = LogEvent::register("MUMPSSolve")?;
         let ev_schur = LogEvent::register("SchurSolve")?;
@@ -447,6 +273,7 @@ impl Direct {
             schur: None,
             flops: 0.0,
             ordering,
+            ordering_warning,
             all: Vec::new(),
             dist: Some(DistSolve::new(world, mesh.owned_count * d)),
             kept,

@@ -82,6 +82,9 @@ pub struct LinearSolver {
     /// Work space of the direct solves of every iteration (the picked
     /// Schur components, and the solution or a whole right-hand side).
     scratch: (Vec<f64>, Vec<f64>),
+    /// What the run's warnings should say of the solver (the application
+    /// takes them).
+    pub warnings: Vec<String>,
 }
 
 /// The Schur components `comps` of each candidate of `v` (`dim` values
@@ -143,6 +146,7 @@ impl LinearSolver {
             solves: 0,
             rtol: f64::NAN,
             scratch: (Vec::new(), Vec::new()),
+            warnings: Vec::new(),
         })
     }
 

@@ -36,6 +36,7 @@ pub fn check(ranks: usize) -> Result<Vec<String>, Error> {
     }
     factorization(pc.as_deref(), ranks)?;
     mumps_solve_controls()?;
+    mumps_choices()?;
     registry::read_solver_options().map_err(|m| Error::BadInput(petsc_message(&m)))
 }
 
@@ -66,6 +67,55 @@ fn mumps_solve_controls() -> Result<(), Error> {
         if k != 0 {
             return bad(format!(
                 "option {name} {k}: ICNTL({i}) {what}; the program needs MUMPS' plain solves (leave the option out)"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// MUMPS controls that choose among numbered methods, their values and
+/// what they choose. MUMPS takes any other value for its default in
+/// silence (`-mat_mumps_icntl_7 9` ordered with AMD, and the summary named
+/// "ICNTL(7) = 9"): refused, on either path.
+const MUMPS_CHOICES: [(usize, i32, &str); 5] = [
+    (
+        6,
+        7,
+        "the permutation to a zero-free diagonal (0 none, 1 to 6 a method, 7 automatic)",
+    ),
+    (
+        7,
+        7,
+        "the sequential ordering (0 AMD, 1 given: METIS where ubr-petsc drives MUMPS, 2 AMF, 3 SCOTCH, 4 PORD, 5 METIS, 6 QAMD, 7 automatic)",
+    ),
+    (
+        12,
+        3,
+        "the ordering strategy of symmetric matrices (0 automatic, 1 usual, 2 compressed, 3 constrained)",
+    ),
+    (
+        28,
+        2,
+        "the analysis (0 automatic, 1 sequential, 2 parallel)",
+    ),
+    (
+        29,
+        2,
+        "the parallel ordering (0 automatic, 1 PT-Scotch, 2 ParMETIS)",
+    ),
+];
+
+/// Refuses the values of [`MUMPS_CHOICES`] that MUMPS does not have.
+fn mumps_choices() -> Result<(), Error> {
+    for (i, max, what) in MUMPS_CHOICES {
+        let name = format!("-mat_mumps_icntl_{i}");
+        let Some(v) = word(&name)? else { continue };
+        let Ok(k) = v.parse::<i32>() else {
+            return bad(format!("option {name}: '{v}' is not an integer"));
+        };
+        if !(0..=max).contains(&k) {
+            return bad(format!(
+                "option {name} {k}: ICNTL({i}) chooses {what}, from 0 to {max}"
             ));
         }
     }

@@ -325,6 +325,7 @@ impl Problem {
             dirichlet.dofs.clone(),
             d,
         )?;
+        lin.warnings = engine.warnings;
         if condense {
             lin.condense(&surface, &comps)?;
         }
@@ -463,6 +464,8 @@ struct Chosen {
     operator: Option<Matrix>,
     description: String,
     iterative: bool,
+    /// What the run's warnings should say of the choice.
+    warnings: Vec<String>,
 }
 
 /// The engine of `settings.linear` for `a`: MUMPS driven directly for UBR's
@@ -500,11 +503,13 @@ fn engine<C: Communicator>(
             "MUMPS Cholesky, called directly ({}; {:.3e} flops)",
             dm.ordering, dm.flops
         );
+        let warnings = dm.ordering_warning.take().into_iter().collect();
         return Ok(Chosen {
             engine: Engine::Direct(Box::new(dm)),
             operator: None,
             description,
             iterative: false,
+            warnings,
         });
     }
     let (ksp, mut description, iterative) = linear_solver(a, mesh, &settings.linear)?;
@@ -526,5 +531,6 @@ fn engine<C: Communicator>(
         operator,
         description,
         iterative,
+        warnings: Vec::new(),
     })
 }
