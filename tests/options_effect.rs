@@ -202,3 +202,17 @@ fn schur_layout_without_ranks_or_condensation() {
     assert_eq!(two.status, Some(0), "{}", two.stderr);
     not_named(&two, "-ubr_schur_distributed");
 }
+
+/// `-mat_mumps_icntl_29` picks the ordering of MUMPS' own parallel
+/// analysis: without `-mat_mumps_icntl_28 2` the program orders and
+/// analyses itself, and the option was accepted in silence. It is named;
+/// through PETSc's interface (`-ubr_mumps_direct 0`, where MUMPS may
+/// choose a parallel analysis itself) it is not.
+#[test]
+fn parallel_ordering_tool_without_parallel_analysis() {
+    let run = hertz442(&["-mat_mumps_icntl_29", "1"]);
+    named_once(&run, "-mat_mumps_icntl_29", "-mat_mumps_icntl_28 2 only");
+    let petsc = hertz442(&["-mat_mumps_icntl_29", "1", "-ubr_mumps_direct", "0"]);
+    assert_eq!(petsc.status, Some(0), "{}", petsc.stderr);
+    not_named(&petsc, "-mat_mumps_icntl_29");
+}

@@ -207,6 +207,50 @@ fn pvtu_piece_that_cannot_be_written() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A `.pvtu` written again on fewer ranks: the pieces the earlier run left
+/// beyond the new rank count (which ParaView offered with the new ones as
+/// one time series) are removed; a file of that name that is not a VTK
+/// piece, and pieces beyond a gap, are left.
+#[test]
+fn pvtu_on_fewer_ranks_leaves_no_stale_piece() {
+    let dir = scratch("pvtu-stale");
+    let pvtu = dir.join("s.pvtu");
+    let run = |ranks: usize| {
+        let r = mpirun(
+            ranks,
+            &[
+                "-options_file",
+                "options/hertz",
+                "-vtk",
+                pvtu.to_str().unwrap(),
+            ],
+        );
+        assert_eq!(r.status, Some(0), "{}", r.context());
+    };
+    let listing = || {
+        let mut names: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    };
+    run(4);
+    std::fs::copy(dir.join("s_3.vtu"), dir.join("s_6.vtu")).unwrap();
+    run(2);
+    assert_eq!(listing(), ["s.pvtu", "s_0.vtu", "s_1.vtu", "s_6.vtu"]);
+    run(3);
+    std::fs::write(dir.join("s_1.vtu"), "not a piece").unwrap();
+    std::fs::remove_file(dir.join("s_0.vtu")).unwrap();
+    // One rank writes s_0.vtu, and s_1.vtu is not ours: it stays.
+    run(1);
+    assert_eq!(
+        listing(),
+        ["s.pvtu", "s_0.vtu", "s_1.vtu", "s_2.vtu", "s_6.vtu"]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A run killed mid-way (SIGTERM) leaves no output file behind, whole or partial.
 #[test]
 fn sigterm_leaves_no_partial_output() {

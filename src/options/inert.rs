@@ -187,6 +187,17 @@ fn layout_rules(r: &mut Rules, s: &Settings, ranks: usize) {
             "it places the Schur complement of the condensed solves, and -ubr_condense_max 0 condenses nothing",
         );
     }
+    // The program analyses sequentially (ICNTL(28) = 1) unless MUMPS' own
+    // parallel analysis is asked for; ICNTL(29) picks its ordering tool.
+    let icntl28 = crate::petsc::options::get_string("-mat_mumps_icntl_28")
+        .ok()
+        .flatten();
+    if icntl28.as_deref().map(str::trim) != Some("2") {
+        r.rule(
+            &["-mat_mumps_icntl_29"],
+            "it chooses the ordering of MUMPS' parallel analysis, which runs with -mat_mumps_icntl_28 2 only (ubr-petsc orders and analyses otherwise)",
+        );
+    }
     if ranks == 1 {
         r.rule(
             &[UBR_SCHUR_DISTRIBUTED.name],

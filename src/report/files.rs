@@ -452,8 +452,29 @@ pub fn write_vtk<C: Communicator>(
             &piece.cell_fields(),
         )
         .map_err(bad_path)?;
+        remove_stale_pieces(&stem_path, &stem, names.len());
     }
     Ok(())
+}
+
+/// Removes the pieces `{stem}_{k}.vtu`, k = `from`, `from + 1`, ..., that
+/// an earlier run on more ranks left beside the index (until one is
+/// missing, or is not a VTK unstructured grid): the index does not name
+/// them, but ParaView offers `{stem}_0..k.vtu` as one time series, in
+/// which a stale piece looks like a step of this run.
+fn remove_stale_pieces(stem_path: &Path, stem: &str, from: usize) {
+    use std::io::Read as _;
+    for k in from.. {
+        let piece = stem_path.with_file_name(vtk::piece_file_name(stem, k));
+        let mut head = [0u8; 256];
+        let n = std::fs::File::open(&piece).and_then(|mut f| f.read(&mut head));
+        let ours = n.is_ok_and(|n| {
+            String::from_utf8_lossy(&head[..n]).contains("<VTKFile type=\"UnstructuredGrid\"")
+        });
+        if !ours || std::fs::remove_file(&piece).is_err() {
+            return;
+        }
+    }
 }
 
 fn point_fields<'a>(p: &'a PieceData, tags: &'a [u64]) -> Vec<Field<'a>> {
