@@ -161,3 +161,32 @@ fn mumps_ordering_replaced_is_named() {
     );
     assert!(max_pressure_gap(&rows, &reference) < 1e-5);
 }
+
+/// A preconditioner that fails inside (GAMG with SOR smoothers, which meet
+/// zero pivots on a coarse level of the generated block) said only
+/// "preconditioner failure reason 6"; the reason is now in words.
+#[test]
+fn preconditioner_failure_in_words() {
+    let run = mpirun(
+        1,
+        &[
+            "-options_file",
+            "options/block3d",
+            "-mesh_generate",
+            "block3d",
+            "-mesh_h",
+            "0.1",
+            "-ksp_type",
+            "cg",
+            "-pc_type",
+            "gamg",
+            "-mg_levels_pc_type",
+            "sor",
+        ],
+    );
+    run.refused(
+        "SOR smoothers",
+        3,
+        &["preconditioner failure reason 6: a preconditioner inside it failed"],
+    );
+}

@@ -119,7 +119,11 @@ impl Ksp {
             // SAFETY: the KSP's live PC (PETSc refuses a null one); PETSc
             // writes one enum.
             unsafe { sys::PCGetFailedReasonRank(pc, &mut why) };
-            detail = format!(" (preconditioner failure reason {})", why as i32);
+            let why = why as i32;
+            detail = format!(
+                " (preconditioner failure reason {why}: {})",
+                pc_failed_reason(why)
+            );
             if let Some((said, memory)) = mumps_infog(pc) {
                 detail.push_str(&said);
                 if memory {
@@ -132,6 +136,23 @@ impl Ksp {
         Error::LinearSolver(format!(
             "linear solve failed after {its} iterations: {name}{detail}"
         ))
+    }
+}
+
+/// PETSc's `PCFailedReason` in words (its names, e.g. SUBPC_ERROR, say
+/// little to a user): a bare "preconditioner failure reason 6" was all a
+/// GAMG run with `-mg_levels_pc_type sor` said of the zero pivots its SOR
+/// sweeps met on a coarse level.
+fn pc_failed_reason(why: i32) -> &'static str {
+    match why {
+        -1 => "its set-up failed",
+        1 => "a structurally zero pivot in a factorization",
+        2 => "a zero pivot in a factorization or an SOR sweep",
+        3 => "a factorization ran out of memory",
+        4 => "a factorization failed",
+        5 => "the right-hand side is not consistent with a singular operator",
+        6 => "a preconditioner inside it failed, such as a multigrid level's smoother or a block's solver (PETSc's -info names the row of a zero pivot)",
+        _ => "a failure this program does not know",
     }
 }
 
