@@ -830,6 +830,7 @@ impl Settings {
                 .map(str::trim),
             ubr.mumps_direct,
         );
+        solver::given_ordering(&linear, algorithm == Algorithm::Ubr)?;
         let ksp_rtol_given = petsc::options::has_name("-ksp_rtol")?;
         let partition = match PARTITION.get()? {
             "metis" => Partitioner::Metis,

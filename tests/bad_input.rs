@@ -678,6 +678,31 @@ fn mumps_choices_out_of_range() {
     }
 }
 
+/// `-mat_mumps_icntl_7 1` (a given ordering, METIS where the program
+/// drives MUMPS) where PETSc's MUMPS interface factorizes (the comparators,
+/// `-ubr_mumps_direct 0`): PETSc stopped with its own error, exit 1. Now
+/// refused in one line, exit 2, naming the orderings PETSc can use.
+#[test]
+fn given_ordering_through_petsc() {
+    for (name, extra) in [
+        ("direct0", &["-ubr_mumps_direct", "0"][..]),
+        ("snesvi", &["-contact_algorithm", "snesvi"][..]),
+    ] {
+        let mut args = vec!["-mat_mumps_icntl_7", "1"];
+        args.extend_from_slice(extra);
+        expect_bad_on(
+            2,
+            &format!("given-{name}"),
+            &hertz(&args),
+            &[
+                "option -mat_mumps_icntl_7 1",
+                "PETSc's MUMPS interface",
+                "4 (PORD)",
+            ],
+        );
+    }
+}
+
 /// Unknown solver names, and values PETSc cannot read, name the option.
 #[test]
 fn petsc_solver_options_are_bad_input() {

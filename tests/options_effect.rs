@@ -216,3 +216,28 @@ fn parallel_ordering_tool_without_parallel_analysis() {
     assert_eq!(petsc.status, Some(0), "{}", petsc.stderr);
     not_named(&petsc, "-mat_mumps_icntl_29");
 }
+
+/// MUMPS' controls in a run without MUMPS (CG + GAMG): the program's own
+/// checks of them (ranges, the given ordering) read them without marking
+/// them used, so they are still named unused, and not as typos ("did you
+/// mean -mat_mumps_icntl_7?" was said of -mat_mumps_cntl_1).
+#[test]
+fn mumps_controls_without_mumps_are_named_unused() {
+    let run = hertz442(&[
+        "-ksp_type",
+        "cg",
+        "-pc_type",
+        "gamg",
+        "-mat_mumps_icntl_7",
+        "1",
+        "-mat_mumps_cntl_1",
+        "0.1",
+    ]);
+    assert_eq!(run.status, Some(0), "{}", run.stderr);
+    for option in ["-mat_mumps_icntl_7", "-mat_mumps_cntl_1"] {
+        let lines = run.stderr_with(&format!("option {option} was not used"));
+        assert_eq!(lines.len(), 1, "{option}: {}", run.stderr);
+        assert!(lines[0].contains("MUMPS did not read it"), "{}", lines[0]);
+        assert!(!lines[0].contains("did you mean"), "{}", lines[0]);
+    }
+}

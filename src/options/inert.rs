@@ -189,7 +189,7 @@ fn layout_rules(r: &mut Rules, s: &Settings, ranks: usize) {
     }
     // The program analyses sequentially (ICNTL(28) = 1) unless MUMPS' own
     // parallel analysis is asked for; ICNTL(29) picks its ordering tool.
-    let icntl28 = crate::petsc::options::get_string("-mat_mumps_icntl_28")
+    let icntl28 = crate::petsc::options::peek("-mat_mumps_icntl_28")
         .ok()
         .flatten();
     if icntl28.as_deref().map(str::trim) != Some("2") {

@@ -6,6 +6,7 @@
 //! asks its own PETSc, with no communication: the outcome is collective.
 
 use super::unused::declared;
+use super::LinearBackend;
 use crate::error::{bad, Error};
 use crate::petsc::options;
 use crate::petsc::registry::{self, Factor};
@@ -13,6 +14,15 @@ use crate::petsc::registry::{self, Factor};
 /// The value of a PETSc option, trimmed; an error when given empty.
 fn word(name: &str) -> Result<Option<String>, Error> {
     match options::get_string(name)? {
+        Some(s) if s.trim().is_empty() => bad(format!("option {name} needs a value")),
+        other => Ok(other.map(|s| s.trim().to_string())),
+    }
+}
+
+/// [`word`] without marking the option used: for MUMPS' controls, which a
+/// run without MUMPS never reads (and then names unused).
+fn peek_word(name: &str) -> Result<Option<String>, Error> {
+    match options::peek(name)? {
         Some(s) if s.trim().is_empty() => bad(format!("option {name} needs a value")),
         other => Ok(other.map(|s| s.trim().to_string())),
     }
@@ -60,7 +70,7 @@ const MUMPS_SOLVE_CONTROLS: [(usize, &str); 4] = [
 fn mumps_solve_controls() -> Result<(), Error> {
     for (i, what) in MUMPS_SOLVE_CONTROLS {
         let name = format!("-mat_mumps_icntl_{i}");
-        let Some(v) = word(&name)? else { continue };
+        let Some(v) = peek_word(&name)? else { continue };
         let Ok(k) = v.parse::<i32>() else {
             return bad(format!("option {name}: '{v}' is not an integer"));
         };
@@ -109,7 +119,7 @@ const MUMPS_CHOICES: [(usize, i32, &str); 5] = [
 fn mumps_choices() -> Result<(), Error> {
     for (i, max, what) in MUMPS_CHOICES {
         let name = format!("-mat_mumps_icntl_{i}");
-        let Some(v) = word(&name)? else { continue };
+        let Some(v) = peek_word(&name)? else { continue };
         let Ok(k) = v.parse::<i32>() else {
             return bad(format!("option {name}: '{v}' is not an integer"));
         };
@@ -118,6 +128,26 @@ fn mumps_choices() -> Result<(), Error> {
                 "option {name} {k}: ICNTL({i}) chooses {what}, from 0 to {max}"
             ));
         }
+    }
+    Ok(())
+}
+
+/// `-mat_mumps_icntl_7 1` (a given ordering: METIS, where ubr-petsc drives
+/// MUMPS) through PETSc's MUMPS interface, which has no way to pass one:
+/// PETSc stopped with its own error (exit 1). Refused in words where PETSc
+/// drives MUMPS: the comparators (`ubr` false) and `-ubr_mumps_direct 0`.
+pub fn given_ordering(linear: &LinearBackend, ubr: bool) -> Result<(), Error> {
+    let petsc_mumps = matches!(linear, LinearBackend::Factorization { package, mumps_direct, .. }
+        if package == "mumps" && !(ubr && *mumps_direct));
+    if petsc_mumps && peek_word("-mat_mumps_icntl_7")?.as_deref() == Some("1") {
+        let who = if ubr {
+            "-ubr_mumps_direct 0 and the Krylov methods around the factorization"
+        } else {
+            "the comparators"
+        };
+        return bad(format!(
+            "option -mat_mumps_icntl_7 1: the given ordering (METIS) needs MUMPS driven by ubr-petsc (UBR, -ksp_type preonly, -ubr_mumps_direct 1); PETSc's MUMPS interface, which {who} use, cannot pass one: choose 0 (AMD), 2 (AMF), 4 (PORD), 6 (QAMD) or 7 (automatic)"
+        ));
     }
     Ok(())
 }

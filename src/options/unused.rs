@@ -191,6 +191,13 @@ pub fn message(name: &str, used: &[String]) -> String {
             "warning: option {name} was not used: MUMPS called directly (the default direct solver) has ICNTL({i}) set by ubr-petsc (5, 18: the input; 19, 26: the Schur complement, -ubr_schur_distributed; 20, 21: the right-hand sides, -ubr_mumps_rhs)"
         );
     }
+    if name.starts_with("-mat_mumps_icntl_") || name.starts_with("-mat_mumps_cntl_") {
+        // Not a typo of another option ("did you mean -mat_mumps_icntl_7?"
+        // of -mat_mumps_cntl_1 in a run with GAMG).
+        return format!(
+            "warning: option {name} was not used: MUMPS did not read it (the linear solver of this run has no MUMPS factorization, or MUMPS has no such control)"
+        );
+    }
     if solver_option(name) {
         return format!(
             "warning: option {name} was not used: PETSc's linear solvers know it, but the one of this run did not read it (-help lists what it reads)"
@@ -347,6 +354,12 @@ mod tests {
         assert_eq!(owned_icntl("-mat_mumps_icntl_19"), Some(19));
         assert_eq!(owned_icntl("-mat_mumps_icntl_14"), None);
         assert!(message("-mat_mumps_icntl_19", &none).contains("ICNTL(19) set by ubr-petsc"));
+        // A MUMPS control no MUMPS read is no typo of another.
+        let m = message("-mat_mumps_cntl_1", &none);
+        assert!(
+            m.contains("MUMPS did not read it") && !m.contains("did you mean"),
+            "{m}"
+        );
     }
 
     #[test]

@@ -131,6 +131,18 @@ pub fn all_pairs() -> Result<Vec<(String, Option<String>)>, Error> {
     Ok(out)
 }
 
+/// The value of `-name` as [`get_string`] gives it (`Some("")` when given
+/// without a value), without marking the option used: for the checks of
+/// options that the run may not read at all, which must still be named
+/// unused then (`-mat_mumps_icntl_7` in a run without MUMPS).
+pub fn peek(name: &str) -> Result<Option<String>, Error> {
+    Ok(all_pairs()?
+        .into_iter()
+        .rev()
+        .find(|(n, _)| n.eq_ignore_ascii_case(name))
+        .map(|(_, v)| v.unwrap_or_default()))
+}
+
 /// The names of every option in the database (with their leading `-`).
 pub fn all_names() -> Result<Vec<String>, Error> {
     let all = listing(check)?.to_string_lossy().into_owned();
