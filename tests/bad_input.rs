@@ -657,7 +657,8 @@ fn mumps_controls_that_change_the_solves() {
 
 /// MUMPS controls that choose among numbered methods: a value MUMPS does
 /// not have (it took -mat_mumps_icntl_7 9 for its default, AMD here, in
-/// silence) is refused on either path, naming the option and the range.
+/// silence) is refused on either path, naming the option and the range;
+/// so is a negative amount of memory (ICNTL 14, 23).
 #[test]
 fn mumps_choices_out_of_range() {
     for (icntl, value, path, range) in [
@@ -666,6 +667,8 @@ fn mumps_choices_out_of_range() {
         ("29", "-1", "1", "from 0 to 2"),
         ("12", "4", "0", "from 0 to 3"),
         ("6", "8", "0", "from 0 to 7"),
+        ("14", "-50", "0", "0 or more"),
+        ("23", "-5", "1", "0 or more"),
     ] {
         let name = format!("-mat_mumps_icntl_{icntl}");
         let args = hertz(&[&name, value, "-ubr_mumps_direct", path]);

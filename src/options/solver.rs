@@ -115,8 +115,33 @@ const MUMPS_CHOICES: [(usize, i32, &str); 5] = [
     ),
 ];
 
-/// Refuses the values of [`MUMPS_CHOICES`] that MUMPS does not have.
+/// MUMPS controls that are amounts, 0 or more: a negative one was taken
+/// as a cap of -5 MB (ICNTL(23): "needs 7.8 MiB more than the -5 MB a
+/// rank may use") or failed the factorization (ICNTL(14) -50: INFOG(1) =
+/// -9 through PETSc's interface, exit 3).
+const MUMPS_AMOUNTS: [(usize, &str); 2] = [
+    (
+        14,
+        "the percentage of working memory added to MUMPS' estimate",
+    ),
+    (23, "the working memory per rank in MB (0: MUMPS' estimate)"),
+];
+
+/// Refuses the values of [`MUMPS_CHOICES`] that MUMPS does not have, and
+/// negative [`MUMPS_AMOUNTS`].
 fn mumps_choices() -> Result<(), Error> {
+    for (i, what) in MUMPS_AMOUNTS {
+        let name = format!("-mat_mumps_icntl_{i}");
+        let Some(v) = peek_word(&name)? else { continue };
+        let Ok(k) = v.parse::<i32>() else {
+            return bad(format!("option {name}: '{v}' is not an integer"));
+        };
+        if k < 0 {
+            return bad(format!(
+                "option {name} {k}: ICNTL({i}) is {what}, 0 or more"
+            ));
+        }
+    }
     for (i, max, what) in MUMPS_CHOICES {
         let name = format!("-mat_mumps_icntl_{i}");
         let Some(v) = peek_word(&name)? else { continue };
