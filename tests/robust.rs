@@ -381,3 +381,39 @@ fn a_diverged_linear_solve_writes_the_report() {
     assert!(rep.r_estimate.is_nan(), "{rep:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Tiny matrix entries (E = 1e-20, the loads alike): MUMPS replaced tiny
+/// pivots while computing the Schur complement of the condensed solves
+/// (INFOG(25) = 505 on block3d_739), whatever its controls, and the Schur
+/// complement came out wrong: the run ended "not converged, the body is
+/// not held" (exit 3). The run now says so and uses full solves: the
+/// contact stresses are the E = 1e6 run's times 1e-26, on 1 and 2 ranks.
+#[test]
+fn tiny_young_modulus_falls_back_to_full_solves() {
+    let args = |e: &'static str| {
+        vec![
+            "-options_file",
+            "options/block3d",
+            "-E",
+            e,
+            "-ubr_lambda_rtol",
+            "1e-8",
+        ]
+    };
+    let (_, _, reference) = solve_rows("e1e6", 1, &args("1e6"));
+    for ranks in [1, 2] {
+        let (run, report, rows) = solve_rows("e1e-20", ranks, &args("1e-20"));
+        assert!(report.converged, "{}", run.context());
+        let warned = run.stderr_with("tiny pivots (INFOG(25))");
+        assert_eq!(warned.len(), 1, "{}", run.context());
+        let scaled: Vec<Row> = rows
+            .into_iter()
+            .map(|mut r| {
+                r.lambda_n *= 1e26;
+                r
+            })
+            .collect();
+        let gap = max_pressure_gap(&scaled, &reference);
+        assert!(gap < 1e-6, "{ranks} ranks: {gap:.2e} from the E = 1e6 run");
+    }
+}

@@ -326,7 +326,7 @@ impl Problem {
             d,
         )?;
         lin.warnings = engine.warnings;
-        if condense {
+        if engine.condensed {
             lin.condense(&surface, &comps)?;
         }
         drop(guard);
@@ -466,6 +466,8 @@ struct Chosen {
     iterative: bool,
     /// What the run's warnings should say of the choice.
     warnings: Vec<String>,
+    /// Whether the engine has the Schur block (condensed solves).
+    condensed: bool,
 }
 
 /// The engine of `settings.linear` for `a`: MUMPS driven directly for UBR's
@@ -496,6 +498,17 @@ fn engine<C: Communicator>(
             direct::SchurLayout::Centralized
         });
         let mut dm = direct::Direct::new(world, a, mesh, adjacency, surface, layout, comps)?;
+        let mut warnings = Vec::new();
+        let tiny = dm.tiny_pivots();
+        if condense && tiny > 0 {
+            // The Schur complement is unreliable: factorized again whole.
+            drop(dm);
+            warnings.push(format!(
+                "MUMPS replaced {tiny} tiny pivots (INFOG(25)) while computing the Schur complement of the condensed solves, which would be wrong: the run uses full solves instead. The matrix entries are tiny (E = {:.3e}): expressed in units where E is nearer 1, the condensed solves work",
+                settings.young
+            ));
+            dm = direct::Direct::new(world, a, mesh, adjacency, surface, None, comps)?;
+        }
         if !settings.ubr.distributed_rhs {
             dm.centralize_rhs();
         }
@@ -503,8 +516,9 @@ fn engine<C: Communicator>(
             "MUMPS Cholesky, called directly ({}; {:.3e} flops)",
             dm.ordering, dm.flops
         );
-        let warnings = dm.ordering_warning.take().into_iter().collect();
+        warnings.extend(dm.ordering_warning.take());
         return Ok(Chosen {
+            condensed: dm.is_condensed(),
             engine: Engine::Direct(Box::new(dm)),
             operator: None,
             description,
@@ -527,6 +541,7 @@ fn engine<C: Communicator>(
         ksp.set_up()?; // the one factorization of UBR
     }
     Ok(Chosen {
+        condensed: false,
         engine: Engine::Ksp(ksp),
         operator,
         description,
