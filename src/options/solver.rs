@@ -64,15 +64,26 @@ const MUMPS_SOLVE_CONTROLS: [(usize, &str); 4] = [
     ),
 ];
 
+/// `-mat_mumps_icntl_{i}` and its value, when given (read without marking
+/// it used); an error when it is not an integer.
+fn icntl_given(i: usize) -> Result<Option<(String, i32)>, Error> {
+    let name = format!("-mat_mumps_icntl_{i}");
+    let Some(v) = peek_word(&name)? else {
+        return Ok(None);
+    };
+    match v.parse::<i32>() {
+        Ok(k) => Ok(Some((name, k))),
+        Err(_) => bad(format!("option {name}: '{v}' is not an integer")),
+    }
+}
+
 /// Refuses the values of [`MUMPS_SOLVE_CONTROLS`] that change the solves:
 /// any but 0 (ICNTL(31) = 2 passed with MUMPS' Cholesky, but an LU through
 /// PETSc's interface then failed in its solve, INFOG(1) = -44).
 fn mumps_solve_controls() -> Result<(), Error> {
     for (i, what) in MUMPS_SOLVE_CONTROLS {
-        let name = format!("-mat_mumps_icntl_{i}");
-        let Some(v) = peek_word(&name)? else { continue };
-        let Ok(k) = v.parse::<i32>() else {
-            return bad(format!("option {name}: '{v}' is not an integer"));
+        let Some((name, k)) = icntl_given(i)? else {
+            continue;
         };
         if k != 0 {
             return bad(format!(
@@ -131,10 +142,8 @@ const MUMPS_AMOUNTS: [(usize, &str); 2] = [
 /// negative [`MUMPS_AMOUNTS`].
 fn mumps_choices() -> Result<(), Error> {
     for (i, what) in MUMPS_AMOUNTS {
-        let name = format!("-mat_mumps_icntl_{i}");
-        let Some(v) = peek_word(&name)? else { continue };
-        let Ok(k) = v.parse::<i32>() else {
-            return bad(format!("option {name}: '{v}' is not an integer"));
+        let Some((name, k)) = icntl_given(i)? else {
+            continue;
         };
         if k < 0 {
             return bad(format!(
@@ -143,10 +152,8 @@ fn mumps_choices() -> Result<(), Error> {
         }
     }
     for (i, max, what) in MUMPS_CHOICES {
-        let name = format!("-mat_mumps_icntl_{i}");
-        let Some(v) = peek_word(&name)? else { continue };
-        let Ok(k) = v.parse::<i32>() else {
-            return bad(format!("option {name}: '{v}' is not an integer"));
+        let Some((name, k)) = icntl_given(i)? else {
+            continue;
         };
         if !(0..=max).contains(&k) {
             return bad(format!(
