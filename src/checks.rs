@@ -48,6 +48,12 @@ pub struct Diagnostics {
     /// norms; [`Diagnostics::with_forces`]): the force scale of the body
     /// when nothing, or little, touches.
     pub external: f64,
+    /// Where no node touches: the pressure scale of the accuracy stop
+    /// (the largest contact stress of UBR's first evaluation, made by the
+    /// loads and the prescribed displacements); 0 where a node touches.
+    /// Without it the open nodes' stresses, the iteration's leftover
+    /// `r (u_n - phi)`, would be measured against themselves.
+    pub idle_scale: f64,
     /// Friction, at the nodes in contact: `max (|lambda_t| - s)`, and the
     /// largest s there.
     pub max_friction_excess: f64,
@@ -85,14 +91,21 @@ impl Diagnostics {
             .fold(norm(&f.load), f64::max);
         self
     }
-    /// The contact force scale: `max(sum w |lambda_n|, external force)`.
+    /// The contact force scale: `max(sum w |lambda_n|, external force)`
+    /// (and, where nothing touches, the idle pressure scale times the area).
     pub fn force_scale(&self) -> f64 {
-        self.force_abs.max(self.external)
+        self.force_abs
+            .max(self.external)
+            .max(self.idle_scale * self.area)
     }
-    /// The pressure scale: `max(max |lambda_n|, external force / area)`.
+    /// The pressure scale: `max(max |lambda_n|, external force / area)`
+    /// (and, where nothing touches, [`Self::idle_scale`]).
     pub fn pressure_scale(&self) -> f64 {
         let spread = ratio(self.external, self.area);
-        self.max_lambda.max(-self.min_lambda).max(spread)
+        self.max_lambda
+            .max(-self.min_lambda)
+            .max(spread)
+            .max(self.idle_scale)
     }
     /// `min lambda_n` relative to [`Self::pressure_scale`] (0 when nonnegative).
     pub fn min_lambda_rel(&self) -> f64 {
@@ -286,8 +299,11 @@ pub fn diagnostics<C: Communicator>(
     lo[4] =
         st.u.read(|u| u.iter().fold(0.0f64, |a, b| a.max(b.abs())))?;
     let mut compl = 0.0;
-    let (mut force, mut area) = (0.0, 0.0);
+    let (mut force, mut area, mut touching) = (0.0, 0.0, 0.0);
     for i in 0..cs.len() {
+        if sf.in_contact[i] {
+            touching += 1.0;
+        }
         let (l, un, g) = (sf.stress_n[i], sf.un[i], cs.g[i]);
         lo[0] = lo[0].max(-l);
         lo[1] = lo[1].max(l);
@@ -298,7 +314,8 @@ pub fn diagnostics<C: Communicator>(
         force += cs.w[i] * l.abs();
         area += cs.w[i];
     }
-    let [eq2, f2, compl, force, area] = allreduce_sum(world, [eq2, f2, compl, force, area]);
+    let [eq2, f2, compl, force, area, touching] =
+        allreduce_sum(world, [eq2, f2, compl, force, area, touching]);
     let m = allreduce_max_n(world, lo);
     let [excess, max_bound, max_slip, stick_slip, min_cos, sliding] = if p.tangential {
         friction(world, p, st, bound)
@@ -323,6 +340,11 @@ pub fn diagnostics<C: Communicator>(
         force_abs: force,
         area,
         external: 0.0,
+        idle_scale: if touching == 0.0 {
+            st.stress_scale
+        } else {
+            0.0
+        },
         max_friction_excess: excess,
         max_bound,
         max_slip,

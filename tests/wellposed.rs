@@ -248,3 +248,59 @@ fn body_pulled_off_the_obstacle_is_named() {
         run.stderr
     );
 }
+
+/// Nothing touches (the half-ball lowered 0.5 below the block, which a
+/// prescribed displacement moves down by 0.2): the answer is no contact,
+/// and the optimality checks measure the open nodes' stresses, the
+/// iteration's leftover `r (u_n - phi)`, against the pressure scale of the
+/// accuracy stop (made by the prescribed displacement). They were measured
+/// against themselves: `min_lambda_n_rel` -0.96 and `complementarity_rel`
+/// 2.6 on a converged run whose stresses were 1e-7 of that scale.
+#[test]
+fn nothing_touching_is_measured_against_the_loads() {
+    for (ranks, extra) in [
+        (1, &[][..]),
+        (2, &[][..]),
+        (1, &["-mesh_h", "2"][..]),
+        (
+            2,
+            &["-friction", "coulomb", "-friction_coefficient", "0.3"][..],
+        ),
+        (
+            1,
+            &["-ubr_condense_max", "0", "-ubr_lambda_rtol", "1e-6"][..],
+        ),
+    ] {
+        let mut args = vec![
+            "-options_file",
+            "options/block3d",
+            "-mesh_generate",
+            "block3d",
+            "-mesh_h",
+            "0.25",
+            "-obstacle_center",
+            "-0.3,0,-1.5",
+        ];
+        args.extend_from_slice(extra);
+        let name = format!("nothing_touching_{ranks}_{}", extra.join("_"));
+        let (run, rep, rows) = solve_rows(&name, ranks, &args);
+        let what = format!("{ranks} ranks {extra:?}: {}", run.stdout);
+        assert!(rep.converged, "{what}");
+        assert_eq!(rep.contact_active, 0.0, "{what}");
+        assert!(rows.iter().all(|r| r.status == "open"), "{what}");
+        let tol: f64 = extra
+            .iter()
+            .position(|&a| a == "-ubr_lambda_rtol")
+            .map_or(1e-3, |k| extra[k + 1].parse().unwrap());
+        assert!(
+            rep.min_lambda_n_rel > -tol && rep.min_lambda_n_rel <= 0.0,
+            "min_lambda_n_rel {}: {what}",
+            rep.min_lambda_n_rel
+        );
+        assert!(
+            rep.complementarity_rel < tol,
+            "complementarity_rel {}: {what}",
+            rep.complementarity_rel
+        );
+    }
+}
