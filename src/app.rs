@@ -690,6 +690,13 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             let hertz = s.reference.as_ref().map(|r| {
                 report::compare_hertz(&checked.rows, d, &problem.contact.direction, s.e_star(d), r)
             });
+            if let Some(w) = hertz.as_ref().and_then(|h| h.resolution_warning()) {
+                // (Rank 0 alone compares; `warn`'s printing, field by field.)
+                if !self.warnings.contains(&w) {
+                    eprintln!("warning: {w}");
+                    self.warnings.push(w);
+                }
+            }
             let results = Results {
                 settings: s,
                 local,

@@ -42,6 +42,10 @@ pub struct Diagnostics {
     /// `sum w lambda_n (g - u_n)`, `sum w |lambda_n|`, and `sum w` (the
     /// measure of the contact surface).
     pub complementarity: f64,
+    /// The largest opening `max |g - u_n|` over the candidates: the length
+    /// of the complementarity's terms, which the gaps of open candidates
+    /// can make far larger than the displacement (a stiff body).
+    pub max_opening: f64,
     pub force_abs: f64,
     pub area: f64,
     /// The largest of the applied load and the reactions (their Euclidean
@@ -121,11 +125,14 @@ impl Diagnostics {
         ratio(self.max_penetration.max(0.0), self.length())
     }
     /// `|sum w lambda_n (g - u_n)|` relative to [`Self::force_scale`] times
-    /// [`Self::length`] (a force times a length).
+    /// the larger of [`Self::length`] and the largest opening (a force
+    /// times a length: the terms' own scale, where the stresses left on
+    /// open candidates, within the tolerance, meet gaps far larger than
+    /// the displacement).
     pub fn complementarity_rel(&self) -> f64 {
         ratio(
             self.complementarity.abs(),
-            self.force_scale() * self.length(),
+            self.force_scale() * self.length().max(self.max_opening),
         )
     }
     /// `max (|lambda_t| - s)^+` at the nodes in contact, relative to max s.
@@ -294,8 +301,9 @@ pub fn diagnostics<C: Communicator>(
     let (eq2, f2) = equilibrium(p, st)?;
     let cs = &p.contact;
     let sf = &st.surface;
-    // -min lambda, max lambda, max penetration, max |g|, max |u|, max (-g)
-    let mut lo = [f64::NEG_INFINITY; 6];
+    // -min lambda, max lambda, max penetration, max |g|, max |u|, max (-g),
+    // max |g - u_n|
+    let mut lo = [f64::NEG_INFINITY; 7];
     lo[4] =
         st.u.read(|u| u.iter().fold(0.0f64, |a, b| a.max(b.abs())))?;
     let mut compl = 0.0;
@@ -310,6 +318,7 @@ pub fn diagnostics<C: Communicator>(
         lo[2] = lo[2].max(un - g);
         lo[3] = lo[3].max(g.abs());
         lo[5] = lo[5].max(-g);
+        lo[6] = lo[6].max((g - un).abs());
         compl += cs.w[i] * l * (g - un);
         force += cs.w[i] * l.abs();
         area += cs.w[i];
@@ -337,6 +346,7 @@ pub fn diagnostics<C: Communicator>(
         max_abs_u: m[4].max(0.0),
         max_initial_penetration: m[5].max(0.0),
         complementarity: compl,
+        max_opening: m[6].max(0.0),
         force_abs: force,
         area,
         external: 0.0,

@@ -284,6 +284,27 @@ pub struct HertzComparison {
     pub peak_hertz: f64,
     pub half_width: f64,
     pub half_width_hertz: f64,
+    /// The candidates within Hertz's half-width of the centre, and the
+    /// distance from the centre to the nearest other candidate (the mesh's
+    /// spacing there).
+    pub zone_candidates: usize,
+    pub spacing: f64,
+}
+
+impl HertzComparison {
+    /// Where Hertz's contact zone holds fewer than 3 candidates, the
+    /// comparison measures the mesh, not the solve: the warning that says so.
+    pub fn resolution_warning(&self) -> Option<String> {
+        (self.zone_candidates < 3).then(|| {
+            format!(
+                "Hertz's contact half-width {:.4e} holds {} contact candidate{} (the nearest candidate to the centre is {:.4e} from it): the mesh cannot resolve Hertz's pressure there, so the comparison measures the mesh, not the solution; refine the contact surface to a spacing of about a fifth of the half-width",
+                self.half_width_hertz,
+                self.zone_candidates,
+                if self.zone_candidates == 1 { "" } else { "s" },
+                self.spacing
+            )
+        })
+    }
 }
 
 /// The contact pressure against Hertz's, at the candidates `rows` (rank 0).
@@ -301,10 +322,19 @@ pub fn compare_hertz(
     );
     let mut err2 = 0.0;
     let mut p2 = 0.0;
-    let mut out = HertzComparison::default();
+    let mut out = HertzComparison {
+        spacing: f64::INFINITY,
+        ..HertzComparison::default()
+    };
     for r in rows {
         let x = hertz::distance(&r.x, &center, n);
         let (p, p0, b) = hertz::pressure(dim, reference.force, reference.radius, e_star, x);
+        if x < b {
+            out.zone_candidates += 1;
+        }
+        if x > 0.0 {
+            out.spacing = out.spacing.min(x);
+        }
         err2 += r.weight * (r.lambda_n - p).powi(2);
         p2 += r.weight * p * p;
         out.peak = out.peak.max(r.lambda_n);

@@ -335,13 +335,18 @@ fn optimality(m: &Results) {
         d.equilibrium_rel
     );
     println!(
-        "                  min lambda_n {:.2e} (relative to the pressure scale {:.3e}), max (u_n - g)^+ {:.2e} (relative to the largest displacement or initial penetration {:.3e}), |complementarity| {:.2e} (relative to the force scale {:.3e} x that length)",
+        "                  min lambda_n {:.2e} (relative to the pressure scale {:.3e}), max (u_n - g)^+ {:.2e} (relative to the largest displacement or initial penetration {:.3e}), |complementarity| {:.2e} (relative to the force scale {:.3e} x {})",
         d.min_lambda_rel(),
         d.pressure_scale(),
         d.penetration_rel(),
         d.length(),
         d.complementarity_rel(),
-        d.force_scale()
+        d.force_scale(),
+        if d.max_opening > d.length() {
+            format!("the largest opening |g - u_n| {:.3e}", d.max_opening)
+        } else {
+            "that length".to_string()
+        }
     );
     if m.problem.tangential {
         let scale = if d.sliding {
