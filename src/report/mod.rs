@@ -296,12 +296,19 @@ impl HertzComparison {
     /// comparison measures the mesh, not the solve: the warning that says so.
     pub fn resolution_warning(&self) -> Option<String> {
         (self.zone_candidates < 3).then(|| {
+            let nearest = if self.spacing.is_finite() {
+                format!(
+                    " (the nearest candidate to the centre is {:.4e} from it)",
+                    self.spacing
+                )
+            } else {
+                String::new()
+            };
             format!(
-                "Hertz's contact half-width {:.4e} holds {} contact candidate{} (the nearest candidate to the centre is {:.4e} from it): the mesh cannot resolve Hertz's pressure there, so the comparison measures the mesh, not the solution; refine the contact surface to a spacing of about a fifth of the half-width",
+                "Hertz's contact half-width {:.4e} holds {} contact candidate{}{nearest}: the mesh cannot resolve Hertz's pressure there, so the comparison measures the mesh, not the solution; refine the contact surface to a spacing of about a fifth of the half-width",
                 self.half_width_hertz,
                 self.zone_candidates,
                 if self.zone_candidates == 1 { "" } else { "s" },
-                self.spacing
             )
         })
     }
