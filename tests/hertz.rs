@@ -253,7 +253,7 @@ fn msh22_msh41_and_generated_meshes() {
 /// small: the complementarity is relative to the largest opening (the gaps
 /// of the open candidates reach 8, the displacement 3e-5), not to the
 /// displacement (with E = 2e11 it printed 134, relative, on a converged
-/// run).
+/// run). Where nothing touches, the warning says so instead.
 #[test]
 fn hertz_zone_below_the_mesh_is_named() {
     let dir = scratch("hertz-zone");
@@ -300,5 +300,34 @@ fn hertz_zone_below_the_mesh_is_named() {
         paper.stderr_with("Hertz's contact half-width").is_empty(),
         "{}",
         paper.context()
+    );
+    // Unloaded, nothing touches: the comparison has nothing to compare,
+    // and the warning says that rather than blame the mesh.
+    let unloaded = mpirun(
+        1,
+        &[
+            "-options_file",
+            "options/hertz",
+            "-mesh",
+            "meshes/hertz_442.msh",
+            "-traction_top",
+            "0,0",
+        ],
+    );
+    assert_eq!(unloaded.status, Some(0), "{}", unloaded.context());
+    assert_eq!(
+        unloaded
+            .stderr_with("no contact candidate touches the obstacle")
+            .len(),
+        1,
+        "{}",
+        unloaded.context()
+    );
+    assert!(
+        unloaded
+            .stderr_with("Hertz's contact half-width")
+            .is_empty(),
+        "{}",
+        unloaded.context()
     );
 }

@@ -289,12 +289,20 @@ pub struct HertzComparison {
     /// spacing there).
     pub zone_candidates: usize,
     pub spacing: f64,
+    /// The candidates in contact.
+    pub touching: usize,
 }
 
 impl HertzComparison {
     /// Where Hertz's contact zone holds fewer than 3 candidates, the
     /// comparison measures the mesh, not the solve: the warning that says so.
     pub fn resolution_warning(&self) -> Option<String> {
+        if self.touching == 0 {
+            return Some(
+                "no contact candidate touches the obstacle: -reference hertz compares Hertz's pressure with none (the 'peak pressure' is what the iteration leaves on open candidates, within the tolerance)"
+                    .to_string(),
+            );
+        }
         (self.zone_candidates < 3).then(|| {
             let nearest = if self.spacing.is_finite() {
                 format!(
@@ -341,6 +349,9 @@ pub fn compare_hertz(
         }
         if x > 0.0 {
             out.spacing = out.spacing.min(x);
+        }
+        if r.status != 0 {
+            out.touching += 1;
         }
         err2 += r.weight * (r.lambda_n - p).powi(2);
         p2 += r.weight * p * p;
