@@ -636,6 +636,11 @@ fn bad_histories_are_refused() {
             vec!["-load_steps", "2", "-contact_algorithm", "ssn"],
             "load histories (-load_steps, -load_history) run with UBR",
         ),
+        // (It took 12 GB in 20 s, before the first solve.)
+        (
+            vec!["-load_steps", "100000000"],
+            "option -load_steps 100000000: a load history has at most 1000000 steps",
+        ),
     ];
     for (extra, needle) in cases {
         for ranks in [1, 2] {

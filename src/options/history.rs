@@ -106,6 +106,17 @@ impl Loads<'_> {
     }
 }
 
+/// The most steps a load history may have: each solves the contact
+/// problem at least once, and the history keeps a row per step (its table
+/// and curve); a count beyond this is a slip of the keyboard (1e8 steps
+/// took 12 GB before the first solve, and would run for days).
+pub const MAX_STEPS: usize = 1_000_000;
+
+/// Why a history cannot have more than [`MAX_STEPS`] steps.
+fn too_many() -> String {
+    format!("a load history has at most {MAX_STEPS} steps (each solves the contact problem at least once)")
+}
+
 /// Reads `-load_steps`, `-load_history` and `-history_curve` (None: one
 /// solve at the full load).
 pub fn read(loads: &Loads) -> Result<Option<LoadHistory>, Error> {
@@ -116,6 +127,9 @@ pub fn read(loads: &Loads) -> Result<Option<LoadHistory>, Error> {
             return bad("options -load_steps and -load_history: give one of them, not both")
         }
         (Some(0), None) => return bad("option -load_steps: 0 steps (give N >= 1)"),
+        (Some(n), None) if n > MAX_STEPS => {
+            return bad(format!("option -load_steps {n}: {}", too_many()))
+        }
         (Some(n), None) => LoadHistory {
             groups: vec![LoadGroup::All],
             factors: (1..=n).map(|k| vec![k as f64 / n as f64]).collect(),
@@ -231,6 +245,9 @@ pub fn parse(path: &str, text: &str, loads: &Loads) -> Result<LoadHistory, Error
             );
         }
         let expected = factors.len() + 1;
+        if expected > MAX_STEPS {
+            return err(line, format!("step {expected}: {}", too_many()));
+        }
         if v[0].parse::<usize>().ok() != Some(expected) {
             return err(
                 line,
@@ -318,5 +335,14 @@ mod tests {
         assert!(e("step,factor\n1,1,2\n").contains("line 2: 3 values, the header has 2"));
         assert!(e("factor\n1\n").contains("must be 'step,factor'"));
         assert!(e("step,traction_top,traction_top\n").contains("appears twice"));
+        let mut long = String::from("step,factor\n");
+        for k in 1..=MAX_STEPS + 1 {
+            long.push_str(&format!("{k},1\n"));
+        }
+        assert!(e(&long).contains(&format!(
+            "line {}: step {}: a load history has at most {MAX_STEPS} steps",
+            MAX_STEPS + 2,
+            MAX_STEPS + 1
+        )));
     }
 }
