@@ -690,7 +690,9 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             let hertz = s.reference.as_ref().map(|r| {
                 report::compare_hertz(&checked.rows, d, &problem.contact.direction, s.e_star(d), r)
             });
-            if let Some(w) = hertz.as_ref().and_then(|h| h.resolution_warning()) {
+            // (Not on a failed run: its message says what stopped it.)
+            let said = hertz.as_ref().filter(|_| failure.is_none());
+            if let Some(w) = said.and_then(|h| h.resolution_warning()) {
                 // (Rank 0 alone compares; `warn`'s printing, field by field.)
                 if !self.warnings.contains(&w) {
                     eprintln!("warning: {w}");

@@ -330,4 +330,24 @@ fn hertz_zone_below_the_mesh_is_named() {
         "{}",
         unloaded.context()
     );
+    // A failed run's message says what stopped it; no warning on top.
+    let stopped = mpirun(
+        1,
+        &[
+            "-options_file",
+            "options/hertz",
+            "-mesh",
+            "meshes/hertz_442.msh",
+            "-ubr_max_it",
+            "0",
+        ],
+    );
+    assert_eq!(stopped.status, Some(3), "{}", stopped.context());
+    assert!(
+        stopped
+            .stderr_with("no contact candidate touches the obstacle")
+            .is_empty(),
+        "{}",
+        stopped.context()
+    );
 }

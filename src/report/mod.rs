@@ -294,8 +294,9 @@ pub struct HertzComparison {
 }
 
 impl HertzComparison {
-    /// Where Hertz's contact zone holds fewer than 3 candidates, the
-    /// comparison measures the mesh, not the solve: the warning that says so.
+    /// Where nothing touches, the comparison has nothing to compare; where
+    /// Hertz's contact zone holds fewer than 3 candidates, it measures the
+    /// mesh, not the solve: the warning that says so.
     pub fn resolution_warning(&self) -> Option<String> {
         if self.touching == 0 {
             return Some(
