@@ -675,7 +675,6 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let world = self.world;
         let _guard = self.stages.output.push()?;
         progress::phase(false, || "writing the outputs".into());
-        let s = &self.settings;
         let hwm = report::peak_memory_mb();
         let memory = [
             hwm,
@@ -687,18 +686,16 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         progress::finish();
         if self.root {
             let d = local.dim;
-            let hertz = s.reference.as_ref().map(|r| {
-                report::compare_hertz(&checked.rows, d, &problem.contact.direction, s.e_star(d), r)
+            let hertz = self.settings.reference.as_ref().map(|r| {
+                let e_star = self.settings.e_star(d);
+                report::compare_hertz(&checked.rows, d, &problem.contact.direction, e_star, r)
             });
             // (Not on a failed run: its message says what stopped it.)
             let said = hertz.as_ref().filter(|_| failure.is_none());
             if let Some(w) = said.and_then(|h| h.resolution_warning()) {
-                // (Rank 0 alone compares; `warn`'s printing, field by field.)
-                if !self.warnings.contains(&w) {
-                    eprintln!("warning: {w}");
-                    self.warnings.push(w);
-                }
+                self.warn(w);
             }
+            let s = &self.settings;
             let results = Results {
                 settings: s,
                 local,
@@ -741,6 +738,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                 }
             }
         }
+        let s = &self.settings;
         if let Some(path) = &s.vtk {
             let rows = report::broadcast_rows(world, &checked.rows);
             let master = master_traction(world, local, s, problem, &sol.state)?;

@@ -256,22 +256,21 @@ fn msh22_msh41_and_generated_meshes() {
 /// run). Where nothing touches, the warning says so instead.
 #[test]
 fn hertz_zone_below_the_mesh_is_named() {
-    let dir = scratch("hertz-zone");
-    let report = dir.join("r.json");
-    let report = report.to_str().unwrap();
-    let stiff = mpirun(
-        1,
-        &[
+    // options/hertz on the 442-node mesh, with `extra`, on one rank.
+    let on_442 = |extra: &[&str]| {
+        let mut args = vec![
             "-options_file",
             "options/hertz",
             "-mesh",
             "meshes/hertz_442.msh",
-            "-E",
-            "2e8",
-            "-report",
-            report,
-        ],
-    );
+        ];
+        args.extend_from_slice(extra);
+        mpirun(1, &args)
+    };
+    let dir = scratch("hertz-zone");
+    let report = dir.join("r.json");
+    let report = report.to_str().unwrap();
+    let stiff = on_442(&["-E", "2e8", "-report", report]);
     assert_eq!(stiff.status, Some(0), "{}", stiff.context());
     let said = stiff.stderr_with("Hertz's contact half-width");
     assert_eq!(said.len(), 1, "{}", stiff.context());
@@ -286,15 +285,7 @@ fn hertz_zone_below_the_mesh_is_named() {
     );
     assert!(r.complementarity_rel < 1e-3, "{r:?}");
     assert!(r.min_lambda_n_rel > -1e-3, "{r:?}");
-    let paper = mpirun(
-        1,
-        &[
-            "-options_file",
-            "options/hertz",
-            "-mesh",
-            "meshes/hertz_442.msh",
-        ],
-    );
+    let paper = on_442(&[]);
     assert_eq!(paper.status, Some(0), "{}", paper.context());
     assert!(
         paper.stderr_with("Hertz's contact half-width").is_empty(),
@@ -303,17 +294,7 @@ fn hertz_zone_below_the_mesh_is_named() {
     );
     // Unloaded, nothing touches: the comparison has nothing to compare,
     // and the warning says that rather than blame the mesh.
-    let unloaded = mpirun(
-        1,
-        &[
-            "-options_file",
-            "options/hertz",
-            "-mesh",
-            "meshes/hertz_442.msh",
-            "-traction_top",
-            "0,0",
-        ],
-    );
+    let unloaded = on_442(&["-traction_top", "0,0"]);
     assert_eq!(unloaded.status, Some(0), "{}", unloaded.context());
     assert_eq!(
         unloaded
@@ -331,17 +312,7 @@ fn hertz_zone_below_the_mesh_is_named() {
         unloaded.context()
     );
     // A failed run's message says what stopped it; no warning on top.
-    let stopped = mpirun(
-        1,
-        &[
-            "-options_file",
-            "options/hertz",
-            "-mesh",
-            "meshes/hertz_442.msh",
-            "-ubr_max_it",
-            "0",
-        ],
-    );
+    let stopped = on_442(&["-ubr_max_it", "0"]);
     assert_eq!(stopped.status, Some(3), "{}", stopped.context());
     assert!(
         stopped
