@@ -13,6 +13,7 @@ pub mod files;
 pub mod history;
 pub mod inert;
 pub mod materials;
+mod numbers;
 pub mod obstacles;
 pub mod outputs;
 mod pairs;
@@ -25,6 +26,7 @@ pub use choices::{Algorithm, LinearBackend, NamedObstacle, NormalMode, Obstacle,
 pub use declared::print_help;
 use declared::*;
 use mpi::traits::*;
+use numbers::{positive, shown, unit};
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum MeshSource {
@@ -268,25 +270,6 @@ pub fn parse_dirichlet(name: &str, s: &str) -> Result<Vec<(usize, f64)>, Error> 
     Ok(out)
 }
 
-/// A contact direction within this distance of unit length is normalised;
-/// others are refused.
-const UNIT_TOLERANCE: f64 = 1e-3;
-
-/// "a,b,c" as a user types it.
-fn joined(v: &[f64]) -> String {
-    v.iter()
-        .map(|x| x.to_string())
-        .collect::<Vec<_>>()
-        .join(",")
-}
-
-fn positive(name: &str, v: f64) -> Result<f64, Error> {
-    if v <= 0.0 {
-        return bad(format!("option {name}: {v} is not positive"));
-    }
-    Ok(v)
-}
-
 fn mesh_source() -> Result<MeshSource, Error> {
     // -mesh_generate wins, so that `-options_file F -mesh_generate hertz2d`
     // reruns a scene of F on a generated mesh.
@@ -360,7 +343,7 @@ fn loads() -> Result<
     match (GRAVITY.vector()?, DENSITY.real()?) {
         (Some(g), Some(rho)) => {
             if rho < 0.0 {
-                return bad(format!("option -density: {rho} is negative"));
+                return bad(format!("option -density: {} is negative", shown(rho)));
             }
             let weight: Vec<f64> = g.iter().map(|gi| rho * gi).collect();
             body = Some(match body {
@@ -391,7 +374,7 @@ fn loads() -> Result<
 }
 
 /// The contact surface, direction, normal mode and obstacle (None without
-/// a surface); a direction within [`UNIT_TOLERANCE`] of unit length is
+/// a surface); a direction within [`numbers::UNIT_TOLERANCE`] of unit length is
 /// normalised, with a note.
 fn contact(notes: &mut Vec<String>) -> Result<Option<ContactSettings>, Error> {
     let pairs = pairs::contact_pairs()?;
@@ -466,35 +449,6 @@ fn obstacle_contact(
         pairs: Vec::new(),
         pair_node_to_segment: false,
     })
-}
-
-/// `v` as a unit vector: normalised, silently within 1e-6 of unit length
-/// (the digits of a typed unit vector), with a note up to
-/// [`UNIT_TOLERANCE`], else bad input. Always normalised: a normal off unit
-/// length by the 5e-13 of twelve typed digits left a normal part of that
-/// size in every tangential displacement, a floor of 1.5e-12 under the
-/// accuracy test's residual (incline2d_coulomb: not converged at
-/// -ubr_lambda_rtol 1e-10).
-fn unit(name: &str, mut v: Vec<f64>, notes: &mut Vec<String>) -> Result<Vec<f64>, Error> {
-    let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-    if (norm - 1.0).abs() > UNIT_TOLERANCE {
-        return bad(format!(
-            "option {name}: ({}) is not a unit vector (norm {norm})",
-            joined(&v)
-        ));
-    }
-    let given = joined(&v);
-    v.iter_mut().for_each(|x| *x /= norm);
-    if (norm - 1.0).abs() > 1e-6 {
-        notes.push(format!(
-            "note: {name} {given} (norm {norm}) normalised to ({})",
-            v.iter()
-                .map(|x| format!("{x:.12}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ));
-    }
-    Ok(v)
 }
 
 /// The obstacle of kind `kind` from its options (the dimensions are
@@ -706,7 +660,10 @@ fn friction() -> Result<(Friction, f64, Option<TrescaBound>), Error> {
     };
     let coefficient = FRICTION_COEFFICIENT.real()?;
     if let Some(c) = coefficient.filter(|&c| c < 0.0) {
-        return bad(format!("option -friction_coefficient: {c} is negative"));
+        return bad(format!(
+            "option -friction_coefficient: {} is negative",
+            shown(c)
+        ));
     }
     let tresca_bound = match TRESCA_BOUND.word()?.as_deref() {
         None => None,

@@ -217,6 +217,30 @@ fn poisson_ratio_out_of_range() {
     expect_bad("nu-1", &hertz(&["-nu", "-1"]), "-nu");
 }
 
+/// A number far from 1 comes back as typed, with its exponent: Rust's
+/// plain digits of -1e-300 made a 340-character line.
+#[test]
+fn extreme_values_are_echoed_with_their_exponent() {
+    for (name, args, value) in [
+        ("E", hertz(&["-E", "-1e-300"]), "-1e-300"),
+        ("nu", hertz(&["-nu", "-1e300"]), "-1e300"),
+        (
+            "dir",
+            hertz(&["-contact_direction", "1e-300,-1e-300"]),
+            "(1e-300,-1e-300)",
+        ),
+    ] {
+        let run = mpirun(1, &args);
+        assert_refused(name, &run, &[value]);
+        let line = run.stderr.lines().find(|l| l.contains("error")).unwrap();
+        assert!(
+            line.len() < 160,
+            "{name}: a {}-character line: {line}",
+            line.len()
+        );
+    }
+}
+
 #[test]
 fn non_positive_r() {
     expect_bad("r", &hertz(&["-ubr_r", "0"]), "-ubr_r");

@@ -9,7 +9,7 @@
 //! the material of the cells of no body group, and the report's `E`, `nu`.
 
 use super::declared::{real_of, DENSITY, DENSITY_BODY, GRAVITY, NU_BODY, YOUNG_BODY};
-use super::Settings;
+use super::{shown, Settings};
 use crate::error::{bad, Error};
 
 /// An isotropic linear elastic material.
@@ -103,7 +103,7 @@ impl Materials {
 /// `-nu` and `-nu_NAME` take a value in (-1, 0.5).
 pub fn check_nu(name: &str, nu: f64) -> Result<f64, Error> {
     if !(nu > -1.0 && nu < 0.5) {
-        return bad(format!("option {name}: {nu} is outside (-1, 0.5)"));
+        return bad(format!("option {name}: {} is outside (-1, 0.5)", shown(nu)));
     }
     Ok(nu)
 }
@@ -137,9 +137,11 @@ pub fn read(young: f64, nu: f64) -> Result<Materials, Error> {
                 return bad(format!("option {name} needs a value"));
             };
             let v = match kind {
-                0 if v <= 0.0 => return bad(format!("option {name}: {v} is not positive")),
+                0 if v <= 0.0 => {
+                    return bad(format!("option {name}: {} is not positive", shown(v)))
+                }
                 1 => check_nu(&name, v)?,
-                2 if v < 0.0 => return bad(format!("option {name}: {v} is negative")),
+                2 if v < 0.0 => return bad(format!("option {name}: {} is negative", shown(v))),
                 2 if GRAVITY.vector()?.is_none() => {
                     return bad(format!(
                     "option {name} needs -gravity gx,gy[,gz] (the body force is density x gravity)"

@@ -8,7 +8,7 @@ use super::declared::{
     OBSTACLE, OBSTACLE_AXIS, OBSTACLE_CENTER, OBSTACLE_MESH, OBSTACLE_MESH_GROUP, OBSTACLE_POINT,
     OBSTACLE_RADIUS, OBSTACLE_SEARCH_DISTANCE,
 };
-use super::{unit, ContactSettings, NamedObstacle, NormalMode, Obstacle};
+use super::{positive, unit, ContactSettings, NamedObstacle, NormalMode, Obstacle};
 use crate::error::{bad, Error};
 use crate::petsc::options;
 
@@ -113,8 +113,8 @@ fn one(
     }
     let positive = |key: &str| -> Result<Option<f64>, Error> {
         match real_of(&opt(key))? {
-            Some(v) if v <= 0.0 => bad(format!("option {}: {v} is not positive", opt(key))),
-            other => Ok(other),
+            Some(v) => positive(&opt(key), v).map(Some),
+            None => Ok(None),
         }
     };
     let required = |key: &str, v: Option<Vec<f64>>| -> Result<Vec<f64>, Error> {
