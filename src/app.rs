@@ -467,6 +467,8 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             .collect();
         interior::refuse_inside(self.world, local, "-contact_pair", &sides)?;
         cs.align_normals(local, &dirichlet, contact);
+        let names = contact.surface_names();
+        let dropped = cs.drop_prescribed(self.world, local, &dirichlet, &s.dirichlet, &names)?;
         let pairs = contact.pairs.clone();
         cs.settle(self.world)?;
         if allreduce_count(self.world, cs.len()) == 0 && contact.surfaces.is_empty() {
@@ -480,7 +482,11 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         }
         let friction = s.friction != Friction::None;
         let restraint = wellposed::check(self.world, local, &dirichlet, &cs, friction, &pairs)?;
-        for w in checks::setup_warnings(self.world, local, s, &dirichlet, &cs)? {
+        let mut warnings: Vec<String> = dropped.into_iter().collect();
+        warnings.extend(checks::setup_warnings(
+            self.world, local, s, &dirichlet, &cs,
+        )?);
+        for w in warnings {
             self.warn(w);
         }
         let touches = touching::touching(self.world, local, &restraint.bodies, None);

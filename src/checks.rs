@@ -609,7 +609,7 @@ pub fn setup_warnings<C: Communicator>(
         .filter(|(_, &n)| n > many)
     {
         out.push(format!(
-            "-dirichlet_{} prescribes the displacement along the contact direction n at {n} contact candidates of '{surface}': there the contact condition cannot act (a Dirichlet condition on the contact surface)",
+            "-dirichlet_{} prescribes part of the displacement along the contact direction n at {n} contact candidates of '{surface}': there the contact acts through the free components alone (a Dirichlet condition on the contact surface)",
             bc.group
         ));
     }

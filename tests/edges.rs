@@ -610,3 +610,86 @@ fn periodic_section_is_named_as_ignored() {
         );
     }
 }
+
+/// A Dirichlet condition along n at a contact candidate: the block's
+/// corner pushed 2e-5 into the floor by `-dirichlet_left`. The multiplier
+/// there grew by r (u_n - g) at every iteration (a 2 x 1 block of E = 1e7
+/// pressed 0.01, its corner pushed 0.02 into the floor: 3948 iterations,
+/// "converged", a contact force of 1.05e8 against 8.1e4 at the top). The
+/// candidate is now dropped, with a warning, and the forces balance; the
+/// whole contact surface prescribed along n is bad input.
+#[test]
+fn prescribed_contact_candidates_are_dropped() {
+    let (dir, msh) = mesh("prescribed", "block2d", 2);
+    let args = |extra: &[&'static str]| -> Vec<String> {
+        let mut a: Vec<String> = [
+            "-mesh",
+            &msh,
+            "-E",
+            "2e11",
+            "-nu",
+            "0.3",
+            "-dirichlet_top",
+            "uy=-1e-5",
+            "-contact_surface",
+            "bottom",
+            "-obstacle",
+            "plane",
+            "-obstacle_point",
+            "0,0",
+            "-contact_direction",
+            "0,-1",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a
+    };
+    let mut rows = Vec::new();
+    for (ranks, coulomb) in [(1, false), (3, false), (1, true), (3, true)] {
+        let mut extra = vec!["-dirichlet_left", "ux=0,uy=-2e-5"];
+        if coulomb {
+            extra.extend(["-friction", "coulomb", "-friction_coefficient", "0.3"]);
+        }
+        let a = args(&extra);
+        let a: Vec<&str> = a.iter().map(String::as_str).collect();
+        let tag = format!("prescribed_n{ranks}_{coulomb}");
+        let (run, rep, r) = solve_rows(&tag, ranks, &a);
+        assert!(
+            run.stderr.contains("-dirichlet_left prescribes the displacement along n at 1 contact candidate of 'bottom': it is no candidate")
+                && run.stderr.contains("it puts the node inside the obstacle, by 2.0000e-5"),
+            "{tag}: {}",
+            run.stderr
+        );
+        assert!(
+            rep.converged && rep.iterations < 200.0,
+            "{tag}: {}",
+            run.stdout
+        );
+        // The contact force balances the reactions.
+        let reaction: f64 = rep.reactions.values().map(|r| r[1]).sum();
+        let force = rep.contact_force_vector[1];
+        assert!(
+            (force + reaction).abs() <= 1e-8 * force.abs(),
+            "{tag}: contact {force:e}, reactions {reaction:e}\n{}",
+            run.stdout
+        );
+        assert_eq!(r.len(), 20, "{tag}: the corner is no candidate");
+        rows.push(r);
+    }
+    for k in [1, 3] {
+        let gap = max_stress_gap(&rows[k], &rows[k - 1]);
+        assert!(gap <= 1e-6, "1 and 3 ranks differ by {gap:e}");
+    }
+    // The whole contact surface prescribed along n.
+    let a = args(&["-dirichlet_bottom", "ux=0,uy=-1e-6"]);
+    let a: Vec<&str> = a.iter().map(String::as_str).collect();
+    let run = mpirun(2, &a);
+    run.refused(
+        "all prescribed",
+        2,
+        &["option -contact_surface: -dirichlet_bottom prescribes the displacement along n at every candidate of 'bottom' (21)"],
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}

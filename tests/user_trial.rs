@@ -373,10 +373,11 @@ fn probably_wrong_set_ups_warn() {
             &top,
             &["contact surface 'top' faces away from the obstacle: on 100% of its area"],
         ),
-        // A Dirichlet condition on the contact surface.
+        // A Dirichlet condition on half of the contact surface (on all of
+        // it: bad input, `prescribed_contact_candidates_are_dropped`).
         (
-            &["-dirichlet_top", "ux=0,uy=-0.01", "-dirichlet_base", "uy=0"],
-            &["-dirichlet_base prescribes the displacement along the contact direction n at 21 contact candidates of 'base'"],
+            &["-dirichlet_top", "ux=0,uy=-0.01", "-dirichlet_base_a", "uy=0"],
+            &["-dirichlet_base_a prescribes the displacement along n at 11 contact candidates of 'base': they are no candidates"],
         ),
         // A traction on a Dirichlet group.
         (

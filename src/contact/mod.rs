@@ -16,6 +16,7 @@ pub mod mesh_obstacle;
 pub mod mortar;
 pub mod mortar3d;
 pub mod obstacle;
+pub mod prescribed;
 pub mod search;
 pub mod surface;
 
