@@ -692,4 +692,55 @@ fn prescribed_contact_candidates_are_dropped() {
         &["option -contact_surface: -dirichlet_bottom prescribes the displacement along n at every candidate of 'bottom' (21)"],
     );
     let _ = std::fs::remove_dir_all(dir);
+    // A contact pair: two blocks overlapping by 5e-4, the upper one's left
+    // side clamped (its corner a slave node), the lower one's held along x:
+    // the mortar coupling acts through the slave's displacement, which the
+    // clamp prescribes (4002 iterations, "converged", 530 times the load).
+    let (dir, msh) = mesh_with(
+        "prescribed_pair",
+        "stacked2d",
+        2,
+        &["-setnumber", "gap", "-0.0005"],
+    );
+    for ranks in [1, 3] {
+        let a = [
+            "-mesh",
+            &msh,
+            "-E",
+            "2e11",
+            "-nu",
+            "0.3",
+            "-contact_pair",
+            "bottom_upper,top_lower",
+            "-dirichlet_bottom_lower",
+            "ux=0,uy=0",
+            "-dirichlet_top",
+            "uy=-1e-5",
+            "-dirichlet_left_upper",
+            "ux=0,uy=0",
+            "-dirichlet_left_lower",
+            "ux=0",
+        ];
+        let tag = format!("prescribed_pair_n{ranks}");
+        let (run, rep, _) = solve_rows(&tag, ranks, &a);
+        assert!(
+            run.stderr.contains("-dirichlet_left_upper prescribes the displacement along n at 1 contact candidate of 'bottom_upper'")
+                && run.stderr.contains("it puts the node inside its master surface, by 5.0000e-4"),
+            "{tag}: {}",
+            run.stderr
+        );
+        assert!(
+            rep.converged && rep.iterations < 100.0,
+            "{tag}: {}",
+            run.stdout
+        );
+        let reaction: f64 = rep.reactions.values().map(|r| r[1]).sum();
+        let top = rep.reactions["top"][1].abs();
+        assert!(
+            reaction.abs() <= 1e-8 * top,
+            "{tag}: reactions {reaction:e}\n{}",
+            run.stdout
+        );
+    }
+    let _ = std::fs::remove_dir_all(dir);
 }
