@@ -262,6 +262,9 @@ pub fn parse_dirichlet(name: &str, s: &str) -> Result<Vec<(usize, f64)>, Error> 
             }
         };
         let v = v.trim();
+        if out.iter().any(|&(c, _)| c == comp) {
+            return bad(format!("option {name}: {} given twice", k.trim()));
+        }
         match v.parse::<f64>() {
             Ok(x) if x.is_finite() => out.push((comp, x)),
             _ => return bad(format!("option {name}: '{v}' is not a finite number")),

@@ -196,6 +196,16 @@ fn unknown_dirichlet_group() {
     expect_bad("dirgroup", &hertz(&["-dirichlet_nosuch", "ux=0"]), "nosuch");
 }
 
+/// A component given twice took the last value without a word.
+#[test]
+fn dirichlet_component_twice() {
+    expect_bad(
+        "dirtwice",
+        &hertz(&["-dirichlet_symmetry", "ux=0,uy=0,ux=1"]),
+        "option -dirichlet_symmetry: ux given twice",
+    );
+}
+
 #[test]
 fn unknown_contact_group() {
     expect_bad(

@@ -317,6 +317,12 @@ fn bad_pairs_are_refused() {
             vec!["-contact_pair", "master,bottom"],
             "'master' and 'bottom' are surfaces of one body",
         ),
+        // One pair named twice: MUMPS' analysis aborted every rank
+        // ("wrong principal var for Schur", MPI_ABORT).
+        (
+            vec!["-contact_pair", "slave,master,slave,master"],
+            "'slave' is the slave surface of two pairs",
+        ),
     ] {
         let mut a: Vec<&str> = base.to_vec();
         a.extend(extra.iter().copied());

@@ -309,18 +309,40 @@ impl ContactSet {
             );
         }
         let lo = mesh.owned_start;
-        let taken: std::collections::HashSet<usize> = self.node.iter().copied().collect();
+        // Each candidate's pair (None: -contact_surface's).
+        let mut taken: std::collections::HashMap<usize, Option<usize>> =
+            self.node.iter().map(|&v| (v, None)).collect();
         let (mut slaves, mut masters) = (Vec::new(), Vec::new());
         for (p, (s, m)) in settings.pairs.iter().enumerate() {
             let (rows, slave_nodes, master_nodes) = pair_rows(world, mesh, settings, s, m)?;
-            // (Decided on every rank: the first such node's tag.)
-            let twice = rows.iter().map(|r| r.node - lo).find(|v| taken.contains(v));
-            let twice = allreduce_max(world, twice.map_or(-1.0, |v| mesh.node_tag[v] as f64));
-            if twice >= 0.0 {
+            // (Decided on every rank: the first such node's tag, and where.)
+            let twice = rows
+                .iter()
+                .find_map(|r| taken.get(&(r.node - lo)).map(|&q| (r.node - lo, q)));
+            let mine = twice.map_or(-1.0, |(v, _)| mesh.node_tag[v] as f64);
+            let tag = allreduce_max(world, mine);
+            // The other side of the node of that tag (its rank's).
+            let other = match twice {
+                Some((_, q)) if mine == tag => q.map_or(0.0, |q| q as f64 + 1.0),
+                _ => -1.0,
+            };
+            let other = allreduce_max(world, other);
+            if tag >= 0.0 {
+                let other = match other as usize {
+                    0 => "a candidate of -contact_surface".to_string(),
+                    q => format!(
+                        "a slave node of the pair {},{}",
+                        settings.pairs[q - 1].0,
+                        settings.pairs[q - 1].1
+                    ),
+                };
                 return bad(format!(
-                    "option -contact_pair: node {} of surface '{s}' is a candidate of -contact_surface too; a node meets one obstacle or one pair",
-                    twice as u64
+                    "option -contact_pair: node {} of surface '{s}' (the pair {s},{m}) is {other} too; a node meets one obstacle or one pair",
+                    tag as u64
                 ));
+            }
+            for r in &rows {
+                taken.insert(r.node - lo, Some(p));
             }
             for r in rows {
                 let v = r.node - lo;

@@ -25,6 +25,14 @@ pub(super) fn contact_pairs() -> Result<Option<Vec<(String, String)>>, Error> {
             p.0
         ));
     }
+    for (k, p) in pairs.iter().enumerate() {
+        if let Some(q) = pairs[..k].iter().find(|q| q.0 == p.0) {
+            return bad(format!(
+                "option -contact_pair: '{}' is the slave surface of two pairs ({},{} and {},{}); a node meets one obstacle or one pair",
+                p.0, q.0, q.1, p.0, p.1
+            ));
+        }
+    }
     Ok(Some(pairs))
 }
 
