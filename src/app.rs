@@ -698,7 +698,11 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             });
             // (Not on a failed run: its message says what stopped it.)
             let said = hertz.as_ref().filter(|_| failure.is_none());
-            if let Some(w) = said.and_then(|h| h.resolution_warning()) {
+            for w in said
+                .into_iter()
+                .flat_map(|h| [h.resolution_warning(), h.force_warning()])
+                .flatten()
+            {
                 self.warn(w);
             }
             let s = &self.settings;

@@ -26,7 +26,8 @@ pub use choices::{Algorithm, LinearBackend, NamedObstacle, NormalMode, Obstacle,
 pub use declared::print_help;
 use declared::*;
 use mpi::traits::*;
-use numbers::{positive, shown, unit};
+pub(crate) use numbers::shown;
+use numbers::{positive, unit};
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum MeshSource {

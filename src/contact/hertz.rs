@@ -49,7 +49,7 @@ pub fn center<'a>(
 }
 
 /// `x - center` without its component along `n`.
-fn tangential_offset(x: &[f64], center: &[f64], n: &[f64]) -> Vec<f64> {
+pub fn tangential_offset(x: &[f64], center: &[f64], n: &[f64]) -> Vec<f64> {
     let dx: Vec<f64> = n
         .iter()
         .enumerate()
@@ -75,9 +75,58 @@ pub fn coordinate_2d(x: &[f64], center: &[f64], n: &[f64]) -> f64 {
     (x[0] - center[0]) * t[0] + (x[1] - center[1]) * t[1]
 }
 
+/// The part of the whole contact a model cut by symmetry planes carries:
+/// 1/2 for each coordinate axis across n along which the contact zone
+/// (`offsets`: the tangential offsets from the centre of the candidates in
+/// contact) lies on one side of the centre, spreading to the other.
+pub fn symmetric_part(offsets: &[Vec<f64>], n: &[f64]) -> f64 {
+    let size = offsets
+        .iter()
+        .flat_map(|o| o.iter().map(|v| v.abs()))
+        .fold(0.0, f64::max);
+    let eps = 1e-6 * size;
+    let mut part = 1.0;
+    for k in (0..n.len()).filter(|&k| n[k].abs() < 0.99) {
+        let lo = offsets.iter().map(|o| o[k]).fold(f64::INFINITY, f64::min);
+        let hi = offsets
+            .iter()
+            .map(|o| o[k])
+            .fold(f64::NEG_INFINITY, f64::max);
+        if hi - lo > eps && (lo >= -eps || hi <= eps) {
+            part *= 0.5;
+        }
+    }
+    part
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn symmetric_part_counts_the_cut_axes() {
+        let n2 = [0.0, -1.0];
+        let one_side = [vec![0.0, 0.0], vec![0.1, 0.0], vec![0.2, 0.0]];
+        let both = [vec![-0.1, 0.0], vec![0.0, 0.0], vec![0.2, 0.0]];
+        assert_eq!(symmetric_part(&one_side, &n2), 0.5);
+        assert_eq!(symmetric_part(&both, &n2), 1.0);
+        // One node at the centre: nothing to tell.
+        assert_eq!(symmetric_part(&[vec![0.0, 0.0]], &n2), 1.0);
+        let n3 = [0.0, 0.0, -1.0];
+        let quarter = [
+            vec![0.0, 0.0, 0.0],
+            vec![0.1, 0.0, 0.0],
+            vec![0.0, 0.1, 0.0],
+            vec![0.1, 0.1, 0.0],
+        ];
+        let half = [
+            vec![0.0, -0.1, 0.0],
+            vec![0.1, 0.0, 0.0],
+            vec![0.0, 0.1, 0.0],
+        ];
+        assert_eq!(symmetric_part(&quarter, &n3), 0.25);
+        assert_eq!(symmetric_part(&half, &n3), 0.5);
+    }
 
     #[test]
     fn hertz_2d_integrates_to_the_force() {
