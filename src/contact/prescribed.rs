@@ -72,9 +72,11 @@ impl ContactSet {
         for (g, bc) in bcs.iter().enumerate() {
             if let Some(group) = mesh.group(&bc.group) {
                 let nodes: HashSet<usize> = group.conn.nodes().iter().copied().collect();
+                // (Those of its components along n.)
+                let along = |i: usize| bc.comps.iter().any(|&(c, _)| self.n(i)[c].abs() > 1e-6);
                 counts[g] = dropped
                     .iter()
-                    .filter(|&&i| nodes.contains(&self.node[i]))
+                    .filter(|&&i| nodes.contains(&self.node[i]) && along(i))
                     .count() as f64;
             }
         }
