@@ -76,22 +76,30 @@ pub fn coordinate_2d(x: &[f64], center: &[f64], n: &[f64]) -> f64 {
 }
 
 /// The part of the whole contact a model cut by symmetry planes carries:
-/// 1/2 for each coordinate axis across n along which the contact zone
-/// (`offsets`: the tangential offsets from the centre of the candidates in
-/// contact) lies on one side of the centre, spreading to the other.
+/// 1/2 for each axis across n along which the contact zone (`offsets`: the
+/// tangential offsets from the centre of the candidates in contact) lies on
+/// one side of the centre, spreading to the other. The axes: in 2D the
+/// tangent (any symmetry line of the contact contains n), in 3D the
+/// coordinate axes across n.
 pub fn symmetric_part(offsets: &[Vec<f64>], n: &[f64]) -> f64 {
+    let axes: Vec<Vec<f64>> = if n.len() == 2 {
+        vec![vec![-n[1], n[0]]]
+    } else {
+        (0..n.len())
+            .filter(|&k| n[k].abs() < 0.99)
+            .map(|k| (0..n.len()).map(|c| f64::from(u8::from(c == k))).collect())
+            .collect()
+    };
     let size = offsets
         .iter()
         .flat_map(|o| o.iter().map(|v| v.abs()))
         .fold(0.0, f64::max);
     let eps = 1e-6 * size;
     let mut part = 1.0;
-    for k in (0..n.len()).filter(|&k| n[k].abs() < 0.99) {
-        let lo = offsets.iter().map(|o| o[k]).fold(f64::INFINITY, f64::min);
-        let hi = offsets
-            .iter()
-            .map(|o| o[k])
-            .fold(f64::NEG_INFINITY, f64::max);
+    for axis in &axes {
+        let along = |o: &Vec<f64>| o.iter().zip(axis).map(|(a, b)| a * b).sum::<f64>();
+        let lo = offsets.iter().map(along).fold(f64::INFINITY, f64::min);
+        let hi = offsets.iter().map(along).fold(f64::NEG_INFINITY, f64::max);
         if hi - lo > eps && (lo >= -eps || hi <= eps) {
             part *= 0.5;
         }
@@ -112,6 +120,13 @@ mod tests {
         assert_eq!(symmetric_part(&both, &n2), 1.0);
         // One node at the centre: nothing to tell.
         assert_eq!(symmetric_part(&[vec![0.0, 0.0]], &n2), 1.0);
+        // A half model whose symmetry line is not a coordinate axis.
+        let (c, sn) = (0.6f64, 0.8f64);
+        let tilted: Vec<Vec<f64>> = [0.0, 0.1, 0.2]
+            .iter()
+            .map(|&a| vec![a * c, a * sn])
+            .collect();
+        assert_eq!(symmetric_part(&tilted, &[sn, -c]), 0.5);
         let n3 = [0.0, 0.0, -1.0];
         let quarter = [
             vec![0.0, 0.0, 0.0],
