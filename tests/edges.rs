@@ -611,6 +611,30 @@ fn periodic_section_is_named_as_ignored() {
     }
 }
 
+/// A run of `args` whose set-up drops a prescribed candidate: its warning
+/// holds both `said` parts, and it converges within `max_its`.
+fn dropped_run(
+    tag: &str,
+    ranks: usize,
+    args: &[&str],
+    said: &str,
+    inside: &str,
+    max_its: f64,
+) -> (Run, Report, Vec<Row>) {
+    let (run, rep, rows) = solve_rows(tag, ranks, args);
+    assert!(
+        run.stderr.contains(said) && run.stderr.contains(inside),
+        "{tag}: {}",
+        run.stderr
+    );
+    assert!(
+        rep.converged && rep.iterations < max_its,
+        "{tag}: {}",
+        run.stdout
+    );
+    (run, rep, rows)
+}
+
 /// A Dirichlet condition along n at a contact candidate: the block's
 /// corner pushed 2e-5 into the floor by `-dirichlet_left`. The multiplier
 /// there grew by r (u_n - g) at every iteration (a 2 x 1 block of E = 1e7
@@ -655,17 +679,13 @@ fn prescribed_contact_candidates_are_dropped() {
         let a = args(&extra);
         let a: Vec<&str> = a.iter().map(String::as_str).collect();
         let tag = format!("prescribed_n{ranks}_{coulomb}");
-        let (run, rep, r) = solve_rows(&tag, ranks, &a);
-        assert!(
-            run.stderr.contains("-dirichlet_left prescribes the displacement along n at 1 contact candidate of 'bottom': it is no candidate")
-                && run.stderr.contains("it puts the node inside the obstacle, by 2.0000e-5"),
-            "{tag}: {}",
-            run.stderr
-        );
-        assert!(
-            rep.converged && rep.iterations < 200.0,
-            "{tag}: {}",
-            run.stdout
+        let (run, rep, r) = dropped_run(
+            &tag,
+            ranks,
+            &a,
+            "-dirichlet_left prescribes the displacement along n at 1 contact candidate of 'bottom': it is no candidate",
+            "it puts the node inside the obstacle, by 2.0000e-5",
+            200.0,
         );
         // The contact force balances the reactions.
         let reaction: f64 = rep.reactions.values().map(|r| r[1]).sum();
@@ -722,17 +742,13 @@ fn prescribed_contact_candidates_are_dropped() {
             "ux=0",
         ];
         let tag = format!("prescribed_pair_n{ranks}");
-        let (run, rep, _) = solve_rows(&tag, ranks, &a);
-        assert!(
-            run.stderr.contains("-dirichlet_left_upper prescribes the displacement along n at 1 contact candidate of 'bottom_upper'")
-                && run.stderr.contains("it puts the node inside its master surface, by 5.0000e-4"),
-            "{tag}: {}",
-            run.stderr
-        );
-        assert!(
-            rep.converged && rep.iterations < 100.0,
-            "{tag}: {}",
-            run.stdout
+        let (run, rep, _) = dropped_run(
+            &tag,
+            ranks,
+            &a,
+            "-dirichlet_left_upper prescribes the displacement along n at 1 contact candidate of 'bottom_upper'",
+            "it puts the node inside its master surface, by 5.0000e-4",
+            100.0,
         );
         let reaction: f64 = rep.reactions.values().map(|r| r[1]).sum();
         let top = rep.reactions["top"][1].abs();

@@ -69,7 +69,7 @@ impl ContactSet {
         let dropped: Vec<usize> = (0..self.len()).filter(|&i| !keep[i]).collect();
         // Which Dirichlet groups hold them, for the message.
         let mut counts = vec![0.0; bcs.len() + 5];
-        for (g, bc) in bcs.iter().enumerate() {
+        for (g, bc) in bcs.iter().enumerate().filter(|_| !dropped.is_empty()) {
             if let Some(group) = mesh.group(&bc.group) {
                 let nodes: HashSet<usize> = group.conn.nodes().iter().copied().collect();
                 // (Those of its components along n.)

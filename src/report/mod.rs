@@ -328,9 +328,7 @@ impl HertzComparison {
             )
         })
     }
-}
 
-impl HertzComparison {
     /// Hertz's load against the model's: where the model's contact force
     /// is not its part of `-reference_force` (within 5%), the comparison
     /// uses a load the model does not carry (the half model's own force
