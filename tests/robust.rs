@@ -382,6 +382,39 @@ fn a_diverged_linear_solve_writes_the_report() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Loads that overflow double precision (a traction of 1e160 against E =
+/// 2000: the first solve's energy norms are infinite) end with exit 3 and a
+/// message that names the cause (the units), not the bare "non-finite
+/// iterate" it printed before; the report is written, on 1 and 2 ranks.
+#[test]
+fn overflowing_loads_name_the_units() {
+    for ranks in [1, 2] {
+        let (run, dir) = run(
+            "overflow",
+            ranks,
+            None,
+            120,
+            &[
+                "-options_file",
+                "options/hertz",
+                "-mesh",
+                "meshes/hertz_442.msh",
+                "-traction_top",
+                "0,-1e160",
+            ],
+        );
+        assert_eq!(run.status, Some(3), "stderr:\n{}", run.stderr);
+        let rep = report(&dir.join("report.json"));
+        let failure = rep.failure.as_deref().unwrap_or_default();
+        assert!(
+            failure.contains("non-finite iterate at iteration 1")
+                && failure.contains("express the problem in other units"),
+            "{ranks} ranks: {failure}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
 /// Tiny matrix entries (E = 1e-20, the loads alike): MUMPS replaced tiny
 /// pivots while computing the Schur complement of the condensed solves
 /// (INFOG(25) = 505 on block3d_739), whatever its controls, and the Schur

@@ -549,8 +549,15 @@ impl<'a, C: Communicator> Run<'a, C> {
     fn guard(&mut self, sums: &Sums, ext: &Maxima, p: f64) -> Result<(), Error> {
         let (name, k) = (self.name, self.k);
         if !self.out.residual.is_finite() || !p.is_finite() {
+            // At the first iteration no contact stress has acted yet: the
+            // first solve's own values do not fit in double precision.
+            let hint = if k <= 1 {
+                ": the first solve's values do not fit in double precision; if the loads or prescribed displacements are that large against E (or E that small), express the problem in other units"
+            } else {
+                ""
+            };
             return Err(Error::NotConverged(format!(
-                "{name} produced a non-finite iterate at iteration {k}"
+                "{name} produced a non-finite iterate at iteration {k}{hint}"
             )));
         }
         // A body that nothing but the contact holds along n, pulled away:
