@@ -736,9 +736,10 @@ fn tight_run(name: &'static str, n: usize, reference: &[Row]) -> Solution {
     let s = run(name, n, &["-ubr_lambda_rtol", "1e-10"]);
     assert!(
         s.converged(),
-        "{name} -n {n}: {}\n{}",
+        "{name} -n {n}: {}\n{}\n{}",
         s.summary(),
-        s.stdout
+        s.stdout,
+        s.stderr
     );
     let (en, et) = errors(&s.rows, reference);
     assert!(
@@ -757,11 +758,39 @@ fn tight_run(name: &'static str, n: usize, reference: &[Row]) -> Solution {
 /// ranks, as before the round-off stop (which alone failed 2 and 3 ranks),
 /// where such a solve wandered until its estimate dipped (1743 iterations
 /// on 2 ranks against 870 now).
+///
+/// Where that floor sits against the target depends on the round-off
+/// itself, and on several ranks MUMPS sums in the order messages arrive:
+/// the same 3-rank run gave 872 to 948 Tresca iterations over 24 runs on a
+/// loaded machine, and once in CI (2026-11-28) two solves in a row stopped
+/// at round-off above their target. That run may end with the documented
+/// round-off message (exit 3, "ask for a looser -ubr_lambda_rtol"), but its
+/// answer must still be within 1e-8 of the reference and it must not
+/// wander (under 1500 Tresca iterations).
 #[test]
 fn tresca_solves_at_round_off_keep_cf_fp_going() {
     let name = "stamp2d_gravity_coulomb";
     let reference = reference(name);
     for n in [1, 2, 3] {
-        tight_run(name, n, &reference.rows);
+        let s = run(name, n, &["-ubr_lambda_rtol", "1e-10"]);
+        if !s.converged() {
+            let failure = s.report["failure"].as_str().unwrap_or_default();
+            assert!(
+                s.status == Some(3)
+                    && failure.contains("reached round-off")
+                    && failure.contains("ask for a looser -ubr_lambda_rtol"),
+                "{name} -n {n}: {}\n{failure}\n{}",
+                s.summary(),
+                s.stderr
+            );
+        }
+        let its = s.num("iterations").unwrap_or(f64::INFINITY);
+        assert!(its < 1500.0, "{name} -n {n}: {}", s.summary());
+        let (en, et) = errors(&s.rows, &reference.rows);
+        assert!(
+            en <= 1e-8 && et <= 1e-8,
+            "{name} -n {n}: err_n {en:.2e}, err_t {et:.2e}; {}",
+            s.summary()
+        );
     }
 }
