@@ -67,10 +67,14 @@ impl ContactSet {
             }
         }
         let dropped: Vec<usize> = (0..self.len()).filter(|&i| !keep[i]).collect();
-        // Which Dirichlet groups hold them, for the message.
+        // Which Dirichlet groups hold them, for the message (read only
+        // where this rank dropped a candidate).
         let mut counts = vec![0.0; bcs.len() + 5];
-        for (g, bc) in bcs.iter().enumerate().filter(|_| !dropped.is_empty()) {
-            if let Some(group) = mesh.group(&bc.group) {
+        if !dropped.is_empty() {
+            for (g, bc) in bcs.iter().enumerate() {
+                let Some(group) = mesh.group(&bc.group) else {
+                    continue;
+                };
                 let nodes: HashSet<usize> = group.conn.nodes().iter().copied().collect();
                 // (Those of its components along n.)
                 let along = |i: usize| bc.comps.iter().any(|&(c, _)| self.n(i)[c].abs() > 1e-6);
