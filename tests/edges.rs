@@ -760,3 +760,83 @@ fn prescribed_contact_candidates_are_dropped() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// Groups of a Gmsh file whose elements the body does not hold (a line
+/// meshed apart from the block, a physical point on an unused geometry
+/// point): a traction or a support there acted on nothing without a word
+/// (`-traction_helper 0,-5` left the load at the top's -1). Every option
+/// that names such a group is refused on 1, 2 and 3 ranks, with the count
+/// of elements off the body; the same mesh runs where no option names them.
+#[test]
+fn groups_off_the_body_are_refused() {
+    let (dir, msh) = mesh("offbody", "offbody2d", 2);
+    let (_d22, msh22) = gmsh_2d("offbody22", "tests/edges/offbody2d.geo");
+    let args = |m: &str, extra: &[&str]| -> Vec<String> {
+        let mut a: Vec<String> = [
+            "-mesh",
+            m,
+            "-E",
+            "1000",
+            "-nu",
+            "0.3",
+            "-dirichlet_left",
+            "ux=0",
+            "-contact_surface",
+            "bottom",
+            "-contact_direction",
+            "0,-1",
+            "-obstacle",
+            "plane",
+            "-obstacle_point",
+            "0,0",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a
+    };
+    let none = "none of its 10 elements is on it";
+    let cases: [(&[&str], &[&str]); 5] = [
+        (
+            &["-traction_top", "0,-1", "-traction_helper", "0,-5"],
+            &["option -traction_helper", none],
+        ),
+        (
+            &["-traction_top", "0,-1", "-dirichlet_helper", "uy=-0.1"],
+            &["option -dirichlet_helper", none],
+        ),
+        (
+            &["-traction_lid", "0,-1"],
+            &[
+                "option -traction_lid",
+                "'lid' is partly off the body: 10 of its 20 elements are not on it",
+            ],
+        ),
+        (
+            &["-traction_top", "0,-1", "-dirichlet_pin", "ux=0"],
+            &[
+                "option -dirichlet_pin",
+                "its one element uses a node that no 2D cell",
+            ],
+        ),
+        (
+            &["-traction_top", "0,-1", "-contact_surface", "helper"],
+            &["option -contact_surface", none],
+        ),
+    ];
+    for (m, ranks) in [(&msh, 1), (&msh22, 2), (&msh, 3)] {
+        for (extra, needles) in cases {
+            let a = args(m, extra);
+            let a: Vec<&str> = a.iter().map(|s| s.as_str()).collect();
+            let run = mpirun(ranks, &a);
+            run.refused("off the body", 2, needles);
+        }
+        let a = args(m, &["-traction_top", "0,-1"]);
+        let a: Vec<&str> = a.iter().map(|s| s.as_str()).collect();
+        let (run, report, _) = solve_rows("offbody-ok", ranks, &a);
+        assert!(report.converged, "{}", run.context());
+        assert!((report.contact_force - 1.0).abs() < 1e-9, "{}", run.stdout);
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -191,11 +191,8 @@ pub fn generate(h: f64) -> Result<Mesh, MeshError> {
         }
         conn
     };
-    let group = |name: &str, conn: Vec<usize>| Group {
-        name: name.to_string(),
-        dim: 2,
-        conn: Cells::uniform(conn, 3),
-    };
+    let group =
+        |name: &str, conn: Vec<usize>| Group::new(name.to_string(), 2, Cells::uniform(conn, 3));
     let groups = vec![
         group("top", triangles(&[(2, true)])),
         group("bottom", triangles(&[(2, false)])),
@@ -249,11 +246,7 @@ pub fn generate_hex(h: f64) -> Result<Mesh, MeshError> {
         }
         Cells::uniform(conn, 4)
     };
-    let group = |name: &str, conn: Cells| Group {
-        name: name.to_string(),
-        dim: 2,
-        conn,
-    };
+    let group = |name: &str, conn: Cells| Group::new(name.to_string(), 2, conn);
     let groups = vec![
         group("top", quads(&[(2, true)])),
         group("bottom", quads(&[(2, false)])),

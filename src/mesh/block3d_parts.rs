@@ -251,11 +251,8 @@ pub fn own_part(h: f64, q1: bool, nparts: usize, p: usize) -> Result<Option<Loca
     let part = Part::new(n, &boxes, &start, p);
     let (node_global, node_tag, coords) = part.nodes();
     let cells = part.cells(q1);
-    let group = |name: &str, list: &[(usize, bool)]| Group {
-        name: name.to_string(),
-        dim: 2,
-        conn: part.faces(q1, list),
-    };
+    let group =
+        |name: &str, list: &[(usize, bool)]| Group::new(name.to_string(), 2, part.faces(q1, list));
     let groups = vec![
         group("top", &[(2, true)]),
         group("bottom", &[(2, false)]),

@@ -124,6 +124,28 @@ impl LocalMesh {
                 group.dim
             )));
         }
+        if group.off_body > 0 {
+            // Gmsh writes a physical group's elements whether or not the
+            // body's cells use their nodes (a helper curve, a surface meshed
+            // apart from the volume): a load or support there would act on
+            // nothing, silently.
+            let (off, all, d) = (group.off_body, group.file_len, self.dim);
+            let which = if all == 1 {
+                format!("its one element uses a node that no {d}D cell of the mesh uses")
+            } else if off == all {
+                format!("none of its {all} elements is on it (each uses a node that no {d}D cell of the mesh uses)")
+            } else {
+                format!("{off} of its {all} elements are not on it (each uses a node that no {d}D cell of the mesh uses)")
+            };
+            let lead = if off == all {
+                "is not on the body"
+            } else {
+                "is partly off the body"
+            };
+            return Err(Error::BadInput(format!(
+                "option {option}: group '{name}' {lead}: {which}; {what} there would act on nothing: mesh the group on the body's own boundary (in Gmsh, a curve or surface of the body itself, or join separate pieces with BooleanFragments)"
+            )));
+        }
         Ok(group)
     }
     pub fn x(&self, local: usize) -> &[f64] {
@@ -507,11 +529,7 @@ impl<'a> Numbering<'a> {
                     conn.push(&cell);
                 }
             }
-            groups.push(Group {
-                name: g.name.clone(),
-                dim: g.dim,
-                conn,
-            });
+            groups.push(g.part(conn));
         }
         LocalMesh {
             dim: d,
@@ -693,11 +711,7 @@ mod tests {
             node_tags: (1..=9).collect(),
             cell_tags: (1..=8).collect(),
             cells,
-            groups: vec![Group {
-                name: "bottom".into(),
-                dim: 1,
-                conn: Cells::uniform(vec![0, 1, 1, 2], 2),
-            }],
+            groups: vec![Group::new("bottom", 1, Cells::uniform(vec![0, 1, 1, 2], 2))],
             bodies: Default::default(),
         }
     }

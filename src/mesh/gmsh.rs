@@ -1324,21 +1324,13 @@ impl<'a> Reader<'a> {
                 // A group of cells is kept by its name only, so that an
                 // option naming it is told its dimension.
                 let conn = if g.dim < dim { g.conn } else { Cells::new() };
-                groups.push(Group {
-                    name,
-                    dim: g.dim,
-                    conn,
-                });
+                groups.push(Group::new(name, g.dim, conn));
             }
         }
         for key in &self.name_order {
             if key.0 <= dim && !self.group_index.contains_key(key) {
                 if let Some(name) = self.names.get(key) {
-                    groups.push(Group {
-                        name: name.clone(),
-                        dim: key.0,
-                        conn: Cells::new(),
-                    });
+                    groups.push(Group::new(name.clone(), key.0, Cells::new()));
                 }
             }
         }
@@ -1475,11 +1467,7 @@ $EndElements
 
     /// A group of simplices (`dim + 1` nodes each).
     fn group(name: &str, dim: usize, conn: &[usize]) -> Group {
-        Group {
-            name: name.to_string(),
-            dim,
-            conn: Cells::uniform(conn.to_vec(), dim + 1),
-        }
+        Group::new(name, dim, Cells::uniform(conn.to_vec(), dim + 1))
     }
 
     /// The body groups of the cells: each cell's set, and the sets.
@@ -1490,13 +1478,16 @@ $EndElements
         }
     }
 
+    /// `g`, of which `n` more elements in the file were off the body.
+    fn off_body(mut g: Group, n: usize) -> Group {
+        g.off_body = n;
+        g.file_len = g.len() + n;
+        g
+    }
+
     /// A group of elements of any sizes.
     fn group_of(name: &str, dim: usize, elems: &[&[usize]]) -> Group {
-        Group {
-            name: name.to_string(),
-            dim,
-            conn: elems.iter().map(|e| e.to_vec()).collect(),
-        }
+        Group::new(name, dim, elems.iter().map(|e| e.to_vec()).collect())
     }
 
     fn square_expected() -> Mesh {
@@ -1508,7 +1499,7 @@ $EndElements
             cell_tags: vec![],
             groups: vec![
                 group("corner", 0, &[0]),
-                group("11", 0, &[]),
+                off_body(group("11", 0, &[]), 1),
                 group("bottom", 1, &[0, 1]),
                 group("top", 1, &[2, 3]),
                 group("3", 1, &[2, 3]),
@@ -2023,8 +2014,9 @@ $EndGhostElements
         let m = ok(SQ22.as_bytes());
         assert!(!m.node_tags.contains(&5));
         assert_eq!(m.coords.len(), 8);
-        // The point group on it survives, empty.
-        assert_eq!(m.group("11"), Some(&group("11", 0, &[])));
+        // The point group on it survives, empty, and knows that its one
+        // point is off the body.
+        assert_eq!(m.group("11"), Some(&off_body(group("11", 0, &[]), 1)));
     }
 
     #[test]

@@ -138,11 +138,8 @@ pub fn generate(h: f64) -> Result<Mesh, MeshError> {
     let symmetry: Vec<usize> = (0..n_rings)
         .flat_map(|k| [first[k], first[k + 1]])
         .collect();
-    let line = |name: &str, conn: Vec<usize>| Group {
-        name: name.to_string(),
-        dim: 1,
-        conn: Cells::uniform(conn, 2),
-    };
+    let line =
+        |name: &str, conn: Vec<usize>| Group::new(name.to_string(), 1, Cells::uniform(conn, 2));
 
     Ok(Mesh {
         dim: 2,
@@ -225,11 +222,7 @@ pub fn generate_quad(h: f64) -> Result<Mesh, MeshError> {
         .map(|i| sq(i, 0))
         .chain((1..=m).map(|k| lower(k, 0)))
         .collect();
-    let line = |name: &str, conn: Cells| Group {
-        name: name.to_string(),
-        dim: 1,
-        conn,
-    };
+    let line = |name: &str, conn: Cells| Group::new(name.to_string(), 1, conn);
     Ok(Mesh {
         dim: 2,
         coords,

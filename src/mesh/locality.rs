@@ -183,11 +183,7 @@ mod tests {
             node_tags: vec![10, 20, 30, 40],
             cells: Cells::uniform(vec![1, 2, 0, 1, 0, 3], 3),
             cell_tags: Vec::new(),
-            groups: vec![Group {
-                name: "bottom".into(),
-                dim: 1,
-                conn: Cells::uniform(vec![1, 2], 2),
-            }],
+            groups: vec![Group::new("bottom", 1, Cells::uniform(vec![1, 2], 2))],
             bodies: Bodies {
                 cell_set: vec![0, 1],
                 sets: vec![vec![], vec![0]],

@@ -18,6 +18,7 @@
 
 pub mod block3d;
 pub mod block3d_parts;
+mod cells;
 pub mod distribute;
 pub mod gmsh;
 pub mod hertz2d;
@@ -29,6 +30,7 @@ use crate::error::{bad, Error};
 use crate::options::materials::Material;
 use crate::options::MeshSource;
 use crate::progress;
+pub use cells::{CellIter, Cells};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -107,166 +109,6 @@ impl CellKind {
     }
 }
 
-/// Element connectivity: node indices of each element, stored flat. While
-/// every element has the same number of nodes (the `stride`) there are no
-/// offsets; the first element of another size switches to CSR offsets
-/// (`offsets[e]..offsets[e + 1]` in `nodes`). Equality compares the elements,
-/// not the storage.
-#[derive(Clone, Debug, Default, Serialize, Deserialize)]
-pub struct Cells {
-    nodes: Vec<usize>,
-    /// Nodes per element while all have the same count (0: empty, or mixed).
-    stride: usize,
-    /// `len() + 1` offsets when mixed, else empty.
-    offsets: Vec<usize>,
-}
-
-impl PartialEq for Cells {
-    fn eq(&self, o: &Cells) -> bool {
-        self.len() == o.len() && self.iter().zip(o.iter()).all(|(a, b)| a == b)
-    }
-}
-
-impl Cells {
-    /// An empty list.
-    pub fn new() -> Cells {
-        Cells::default()
-    }
-
-    /// Elements of `k` nodes each, from their flat connectivity.
-    pub fn uniform(nodes: Vec<usize>, k: usize) -> Cells {
-        assert!(
-            k > 0 && nodes.len().is_multiple_of(k),
-            "{} nodes in elements of {k}",
-            nodes.len()
-        );
-        Cells {
-            stride: if nodes.is_empty() { 0 } else { k },
-            nodes,
-            offsets: Vec::new(),
-        }
-    }
-
-    pub fn len(&self) -> usize {
-        self.nodes
-            .len()
-            .checked_div(self.stride)
-            .unwrap_or_else(|| self.offsets.len().saturating_sub(1))
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// The common node count of the elements, if they all have the same (and there are some).
-    pub fn stride(&self) -> Option<usize> {
-        (self.stride > 0).then_some(self.stride)
-    }
-
-    /// The largest node count of an element (0 if empty).
-    pub fn max_nodes(&self) -> usize {
-        if self.stride > 0 {
-            self.stride
-        } else {
-            self.offsets
-                .windows(2)
-                .map(|w| w[1] - w[0])
-                .max()
-                .unwrap_or(0)
-        }
-    }
-
-    /// The nodes of element `e`.
-    #[inline]
-    pub fn get(&self, e: usize) -> &[usize] {
-        if self.stride > 0 {
-            &self.nodes[e * self.stride..(e + 1) * self.stride]
-        } else {
-            &self.nodes[self.offsets[e]..self.offsets[e + 1]]
-        }
-    }
-
-    /// Appends an element.
-    pub fn push(&mut self, element: &[usize]) {
-        let k = element.len();
-        debug_assert!(k > 0, "an element without nodes");
-        if self.nodes.is_empty() {
-            self.stride = k;
-            self.offsets.clear();
-        } else if self.stride > 0 && self.stride != k {
-            // First element of another size: switch to offsets.
-            let s = self.stride;
-            self.offsets = (0..=self.nodes.len() / s).map(|e| e * s).collect();
-            self.stride = 0;
-        }
-        self.nodes.extend_from_slice(element);
-        if self.stride == 0 {
-            self.offsets.push(self.nodes.len());
-        }
-    }
-
-    /// Every node of every element, element after element.
-    pub fn nodes(&self) -> &[usize] {
-        &self.nodes
-    }
-
-    /// Mutable access to the node indices (to renumber them).
-    pub fn nodes_mut(&mut self) -> &mut [usize] {
-        &mut self.nodes
-    }
-
-    /// The elements in order.
-    pub fn iter(&self) -> CellIter<'_> {
-        CellIter {
-            cells: self,
-            next: 0,
-        }
-    }
-}
-
-/// Iterator over the elements of a [`Cells`].
-pub struct CellIter<'a> {
-    cells: &'a Cells,
-    next: usize,
-}
-
-impl<'a> Iterator for CellIter<'a> {
-    type Item = &'a [usize];
-    #[inline]
-    fn next(&mut self) -> Option<&'a [usize]> {
-        if self.next < self.cells.len() {
-            self.next += 1;
-            Some(self.cells.get(self.next - 1))
-        } else {
-            None
-        }
-    }
-    fn size_hint(&self) -> (usize, Option<usize>) {
-        let n = self.cells.len() - self.next;
-        (n, Some(n))
-    }
-}
-
-impl ExactSizeIterator for CellIter<'_> {}
-
-impl<'a> IntoIterator for &'a Cells {
-    type Item = &'a [usize];
-    type IntoIter = CellIter<'a>;
-    fn into_iter(self) -> CellIter<'a> {
-        self.iter()
-    }
-}
-
-impl FromIterator<Vec<usize>> for Cells {
-    fn from_iter<I: IntoIterator<Item = Vec<usize>>>(it: I) -> Cells {
-        let mut c = Cells::new();
-        for e in it {
-            c.push(&e);
-        }
-        c
-    }
-}
-
 /// The index of the group named `name`: the group of that exact name, else
 /// the one group whose name reads `name` with each space written `_` (an
 /// option's name holds no space: `-dirichlet_Bottom_Face` names Gmsh's
@@ -293,9 +135,38 @@ pub struct Group {
     pub dim: usize,
     /// Its elements, node indices 0-based into `Mesh::coords`.
     pub conn: Cells,
+    /// Of the mesh file's group, the elements that use a node no cell uses
+    /// (dropped by [`Mesh::drop_unused_nodes`]: they are not on the body),
+    /// and, where there are such, all its elements (else 0); the same on
+    /// every rank. An option naming a group with such elements is refused
+    /// ([`super::distribute::LocalMesh::group_for`]).
+    #[serde(default)]
+    pub off_body: usize,
+    #[serde(default)]
+    pub file_len: usize,
 }
 
 impl Group {
+    /// A group whose elements are all on the body.
+    pub fn new(name: impl Into<String>, dim: usize, conn: Cells) -> Group {
+        Group {
+            name: name.into(),
+            dim,
+            conn,
+            off_body: 0,
+            file_len: 0,
+        }
+    }
+    /// A part of this group: `conn`, with the file's counts.
+    pub fn part(&self, conn: Cells) -> Group {
+        Group {
+            name: self.name.clone(),
+            dim: self.dim,
+            conn,
+            off_body: self.off_body,
+            file_len: self.file_len,
+        }
+    }
     pub fn len(&self) -> usize {
         self.conn.len()
     }
@@ -501,6 +372,10 @@ impl Mesh {
                     e2.extend(e.iter().map(|&v| new_index[v]));
                     conn.push(&e2);
                 }
+            }
+            if conn.len() < g.conn.len() {
+                g.off_body = g.conn.len() - conn.len();
+                g.file_len = g.conn.len();
             }
             g.conn = conn;
         }
@@ -769,11 +644,7 @@ mod tests {
 
     #[test]
     fn groups_by_name_spaces_as_underscores() {
-        let g = |name: &str| Group {
-            name: name.to_string(),
-            dim: 1,
-            conn: Cells::new(),
-        };
+        let g = |name: &str| Group::new(name.to_string(), 1, Cells::new());
         let groups = [
             g("Bottom Face"),
             g("a b"),

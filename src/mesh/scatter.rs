@@ -148,11 +148,7 @@ impl<'a> Parts<'a> {
                         conn.push(&buf);
                     }
                 }
-                Group {
-                    name: g.name.clone(),
-                    dim: g.dim,
-                    conn,
-                }
+                g.part(conn)
             })
             .collect();
         let raw = RawPart {
