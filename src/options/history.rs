@@ -198,6 +198,8 @@ pub fn parse(path: &str, text: &str, loads: &Loads) -> Result<LoadHistory, Error
             "option -load_history: '{path}' line {line}: {what}"
         ))
     };
+    // A spreadsheet's "CSV UTF-8" starts with a byte-order mark.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut rows = text
         .lines()
         .enumerate()
@@ -311,6 +313,9 @@ mod tests {
         .unwrap();
         assert_eq!(h.groups, vec![LoadGroup::All]);
         assert_eq!(h.factors, vec![vec![0.5], vec![1.0], vec![0.25]]);
+        // Saved by a spreadsheet: a byte-order mark and CRLF line ends.
+        let h = parse("h.csv", "\u{feff}step,factor\r\n1,0.5\r\n2,1\r\n", &l).unwrap();
+        assert_eq!(h.factors, vec![vec![0.5], vec![1.0]]);
         let h = parse(
             "h.csv",
             "step,traction_top,dirichlet_left\n1,1,0\n2,1,0.5\n",
