@@ -840,3 +840,45 @@ fn groups_off_the_body_are_refused() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// A 3D model whose volume is in no Physical Volume: Gmsh writes only the
+/// boundary groups' triangles, which read as a 2D mesh. Both refusals
+/// (the triangles not in one plane; the bottom alone, read as the body)
+/// now say that the volume needs a Physical Volume.
+#[test]
+fn a_volume_without_physical_group_is_named() {
+    for (top, option, value) in [
+        ("1", "-dirichlet_top", "uz=-0.01"),
+        ("0", "-pressure_bottom", "1"),
+    ] {
+        let (dir, msh) = mesh_with("novolume", "novolume3d", 3, &["-setnumber", "top", top]);
+        let run = mpirun(
+            1,
+            &[
+                "-mesh",
+                &msh,
+                "-E",
+                "1000",
+                "-nu",
+                "0.3",
+                "-contact_surface",
+                "bottom",
+                "-contact_direction",
+                "0,0,-1",
+                "-obstacle",
+                "plane",
+                "-obstacle_point",
+                "0,0,0",
+                option,
+                value,
+            ],
+        );
+        let said = if top == "1" {
+            "2D mesh (no 3D cells) not in a plane z = constant"
+        } else {
+            "group 'bottom' has dimension 2 (it holds the body's cells, the mesh is 2D"
+        };
+        run.refused("no Physical Volume", 2, &[said, "a Physical Volume"]);
+        let _ = std::fs::remove_dir_all(dir);
+    }
+}

@@ -110,7 +110,15 @@ impl LocalMesh {
         };
         if !dims.contains(&group.dim) {
             let held = if group.dim == self.dim {
-                format!(" (it holds the body's cells, the mesh is {}D)", self.dim)
+                let volume = if self.dim == 2 {
+                    "; a 3D body needs its volume in a Physical Volume, or Gmsh writes no 3D cell"
+                } else {
+                    ""
+                };
+                format!(
+                    " (it holds the body's cells, the mesh is {}D{volume})",
+                    self.dim
+                )
             } else {
                 String::new()
             };

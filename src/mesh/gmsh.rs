@@ -1267,7 +1267,9 @@ impl<'a> Reader<'a> {
                 self.nodes_at,
                 format_args!(
                     "2D mesh (no 3D cells) not in a plane z = constant: \
-                     node {} has z = {}, node {} has z = {z0}",
+                     node {} has z = {}, node {} has z = {z0}; for a 3D body, \
+                     put its volume in a Physical Volume (Gmsh writes only \
+                     the elements of physical groups)",
                     self.node_tags.get(v).copied().unwrap_or(0),
                     z(v),
                     self.node_tags.get(first).copied().unwrap_or(0),
@@ -2371,7 +2373,9 @@ $EndGhostElements
         assert_eq!(
             err(s.as_bytes()),
             "t.msh:11: 2D mesh (no 3D cells) not in a plane z = constant: \
-             node 3 has z = 0.5, node 1 has z = 0"
+             node 3 has z = 0.5, node 1 has z = 0; for a 3D body, put its \
+             volume in a Physical Volume (Gmsh writes only the elements of \
+             physical groups)"
         );
         // A constant z, or an off-plane node no triangle uses, is fine.
         let s = SQ22
