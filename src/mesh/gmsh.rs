@@ -1293,7 +1293,9 @@ impl<'a> Reader<'a> {
         } else {
             return Err(self.err(
                 elements_at,
-                "no cells (triangles, quadrilaterals, tetrahedra, hexahedra, prisms or pyramids)",
+                "no cells (triangles, quadrilaterals, tetrahedra, hexahedra, prisms or pyramids); \
+                 put the body in a Physical Surface (2D) or Physical Volume (3D): Gmsh writes only \
+                 the elements of physical groups",
             ));
         };
         if dim == 2 {
@@ -2318,7 +2320,9 @@ $EndGhostElements
             .replace("6 2 2 12 1 1 2 3\n7 2 2 12 1 1 3 4\n", "");
         assert_eq!(
             err(s.as_bytes()),
-            "t.msh:19: no cells (triangles, quadrilaterals, tetrahedra, hexahedra, prisms or pyramids)"
+            "t.msh:19: no cells (triangles, quadrilaterals, tetrahedra, hexahedra, prisms or pyramids); \
+             put the body in a Physical Surface (2D) or Physical Volume (3D): Gmsh writes only the \
+             elements of physical groups"
         );
         let s = SQ41.replace("1 3 1 1\n4 3 4", "1 4 1 1\n4 3 4");
         assert_eq!(
