@@ -548,6 +548,22 @@ fn gmsh_partitioned_files_read_whole() {
                 r.stdout
             );
         }
+        // One file of `-part_split` is a piece of the body: refused (it read
+        // as a body cut along its interfaces, without a word).
+        let out = parted.replace(".msh", "_split.msh");
+        let geo = root().join(format!("tests/edges/block{dim}d.geo"));
+        let mut gmsh = Command::new("gmsh");
+        gmsh.arg(format!("-{dim}"))
+            .args(&extra)
+            .args(["-part_split", "-o", &out]);
+        assert!(gmsh.arg(geo).output().unwrap().status.success());
+        let args = tight(&out.replace(".msh", "_1.msh"));
+        let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+        let said = [
+            "one piece of a mesh that Gmsh split into files",
+            "holds partition 1 of",
+        ];
+        mpirun(2, &a).refused(&name, 2, &said);
     }
 }
 

@@ -15,7 +15,9 @@
 //!   read whole: its element blocks take their physical
 //!   tags from the partitioned entities, the facets Gmsh adds on the
 //!   interfaces between partitions join no group, and the partition is not
-//!   used (ghost cells, in `$GhostElements`, are skipped).
+//!   used (ghost cells, in `$GhostElements`, are skipped). One file of
+//!   `-part_split` (one partition, its neighbours in other files) is an
+//!   error: it is a piece of the body.
 //! * Element types 15 (point), 1 (2-node line), 2 (3-node triangle),
 //!   3 (4-node quadrilateral), 4 (4-node tetrahedron), 5 (8-node
 //!   hexahedron), 6 (6-node prism) and 7 (5-node pyramid), in any mix. Any
@@ -764,11 +766,14 @@ impl<'a> Reader<'a> {
         if self.binary {
             self.end_of_line()?;
         }
+        let mut partitions = 0;
         if parted {
-            self.size("number of partitions")?;
+            partitions = self.size("number of partitions")?;
             let ghosts = self.size("number of ghost entities")?;
             self.skip_ints(ghosts.saturating_mul(2), "ghost entity tag or partition")?;
         }
+        // The partitions of each partitioned entity: (dimension, partition).
+        let mut parts: Vec<(usize, i32)> = Vec::new();
         let mut counts = [0u64; 4];
         for c in &mut counts {
             *c = self.size("number of entities")?;
@@ -788,7 +793,9 @@ impl<'a> Reader<'a> {
                     own = parent as usize == dim;
                     self.int("parent tag")?;
                     let np = self.size("number of partitions")?;
-                    self.skip_ints(np, "partition tag")?;
+                    for _ in 0..np {
+                        parts.push((dim, self.int("partition tag")?));
+                    }
                 }
                 for _ in 0..if dim == 0 { 3 } else { 6 } {
                     self.real("entity coordinate")?;
@@ -815,11 +822,68 @@ impl<'a> Reader<'a> {
             }
         }
         self.entities = Some(map);
+        if parted {
+            self.whole_partition(at, partitions, &counts, &parts)?;
+        }
         self.expect_end(if parted {
             "$EndPartitionedEntities"
         } else {
             "$EndEntities"
         })
+    }
+
+    /// A partitioned file holds every partition that its entities name:
+    /// each partition listed on an entity (an interface, a boundary piece)
+    /// has cells, so it has an entity of the top dimension here unless the
+    /// file is one piece of Gmsh's `-part_split` (one file per partition),
+    /// which would read as a body cut along its interfaces. (A partition
+    /// that no entity names may be empty: more partitions than cells.)
+    fn whole_partition(
+        &self,
+        at: usize,
+        partitions: u64,
+        counts: &[u64; 4],
+        parts: &[(usize, i32)],
+    ) -> Res<()> {
+        let Some(top) = (0..4).rev().find(|&d| counts[d] > 0) else {
+            return Ok(());
+        };
+        let here: HashSet<i32> = parts
+            .iter()
+            .filter(|&&(d, _)| d == top)
+            .map(|&(_, p)| p)
+            .collect();
+        let mut elsewhere: Vec<i32> = parts
+            .iter()
+            .map(|&(_, p)| p)
+            .filter(|p| !here.contains(p))
+            .collect();
+        if elsewhere.is_empty() {
+            return Ok(());
+        }
+        elsewhere.sort_unstable();
+        elsewhere.dedup();
+        let mut here: Vec<i32> = here.into_iter().collect();
+        here.sort_unstable();
+        let list = |v: &[i32]| {
+            v.iter()
+                .map(|p| p.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        Err(self.err(
+            at,
+            format_args!(
+                "the file is one piece of a mesh that Gmsh split into files (-part_split): it \
+                 holds partition{} {} of {partitions}, and the cells of partition{} {} next to \
+                 it are in other files; mesh the model into one file (gmsh -part N without \
+                 -part_split, or without -part)",
+                if here.len() == 1 { "" } else { "s" },
+                list(&here),
+                if elsewhere.len() == 1 { "" } else { "s" },
+                list(&elsewhere)
+            ),
+        ))
     }
 
     /// Skips `n` 4.1 integers (`int`: 4 bytes each in binary files).
@@ -1961,6 +2025,21 @@ $GhostElements
 0
 $EndGhostElements
 ";
+
+    /// One file of Gmsh's `-part_split`: [`SQ41P`] without partition 2's
+    /// triangle, which its interface curve 8 still names.
+    #[test]
+    fn split_partition_piece_is_refused() {
+        let piece = SQ41P
+            .replace("2\n1\n3 2\n2 3 2 0\n", "2\n1\n3 2\n2 3 1 0\n")
+            .replace("3 2 1 1 2 0 0 0 1 1 0 1 12 1 -8\n", "");
+        let e = err(piece.as_bytes());
+        assert!(
+            e.starts_with("t.msh:19: the file is one piece of a mesh that Gmsh split into files")
+                && e.contains("holds partition 1 of 2, and the cells of partition 2 next to it"),
+            "{e}"
+        );
+    }
 
     #[test]
     fn partitioned_v41_reads_whole() {
