@@ -101,6 +101,37 @@ pub fn one_openmp_thread() {
     }
 }
 
+/// One OpenBLAS thread per rank where `ranks_here` ranks share this
+/// machine, unless `OPENBLAS_NUM_THREADS`, `GOTO_NUM_THREADS` or
+/// `OMP_NUM_THREADS` (which OpenBLAS reads, in that order) says otherwise.
+/// Debian's threaded OpenBLAS (`libopenblas0-pthread`, the BLAS of many
+/// machines) runs a thread per core the rank may use: where Open MPI does
+/// not bind each rank to one core (`--bind-to none`, or a socket from 3
+/// ranks on), the ranks' threads share the cores and wait on each other
+/// (block3d h 0.0333, 2 ranks on 2 cores, `--bind-to none`: 20.6 s against
+/// 15.0 s with one thread each). One rank alone keeps OpenBLAS' threads
+/// (16.5-16.9 s against 22.3-23.7 s with the serial OpenBLAS, started
+/// without mpirun). Nothing to do for the serial OpenBLAS or another BLAS.
+pub fn one_blas_thread_per_rank(ranks_here: usize) {
+    if ranks_here < 2
+        || [
+            "OPENBLAS_NUM_THREADS",
+            "GOTO_NUM_THREADS",
+            "OMP_NUM_THREADS",
+        ]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some())
+    {
+        return;
+    }
+    let f = loaded_symbol(c"openblas_set_num_threads");
+    if !f.is_null() {
+        // SAFETY: the address of OpenBLAS' `void openblas_set_num_threads(int)`.
+        let set: extern "C" fn(c_int) = unsafe { std::mem::transmute(f) };
+        set(1);
+    }
+}
+
 /// Maps OpenBLAS' work space now, while the process is small, or says that
 /// it cannot be mapped. OpenBLAS maps its buffer on the first level-3 call
 /// (a MUMPS factorization, LAPACK's Cholesky) and, when `mmap` and `malloc`

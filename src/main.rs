@@ -39,6 +39,7 @@ fn main() {
     };
     let world = universe.world();
     let rank = world.rank();
+    ubr_petsc::dense::one_blas_thread_per_rank(world.split_shared(0).size() as usize);
     // A panic on one rank must not leave the others waiting in a collective.
     std::panic::set_hook(Box::new(|info| {
         eprintln!("internal error (bug): {info}");
