@@ -586,7 +586,21 @@ impl<'a> Reader<'a> {
     fn parse(mut self) -> Res<Mesh> {
         match self.token() {
             Ok((_, t)) if t == b"$MeshFormat" => {}
-            _ => return Err(self.err(0, "not a Gmsh mesh file (no $MeshFormat)")),
+            _ => {
+                // What a new user may give instead: the geometry, or the
+                // mesh compressed.
+                let hint = if self.b.starts_with(&[0x1f, 0x8b]) {
+                    ": it is gzip-compressed; gunzip it first"
+                } else if self.file.ends_with(".geo") {
+                    ": a .geo file is Gmsh's geometry; mesh it first (gmsh -2 or -3 FILE.geo -o FILE.msh)"
+                } else {
+                    ""
+                };
+                return Err(self.err(
+                    0,
+                    format_args!("not a Gmsh mesh file (no $MeshFormat){hint}"),
+                ));
+            }
         }
         let (at, v) = self.token()?;
         self.v4 = match v {
@@ -2162,6 +2176,12 @@ $EndGhostElements
         );
         assert_eq!(err(b""), "t.msh:1: not a Gmsh mesh file (no $MeshFormat)");
         assert!(err(b"\x89PNG\r\n").contains("no $MeshFormat"));
+        assert!(err(b"\x1f\x8b\x08\x00")
+            .ends_with("no $MeshFormat): it is gzip-compressed; gunzip it first"));
+        let geo = parse_gmsh(b"Point(1) = {0, 0, 0};\n", "m.geo")
+            .unwrap_err()
+            .to_string();
+        assert!(geo.starts_with("m.geo:1: not a Gmsh mesh file (no $MeshFormat): a .geo file is Gmsh's geometry; mesh it first"), "{geo}");
     }
 
     #[test]

@@ -40,8 +40,15 @@ pub(super) fn read(path: &Path, dim: usize, group: Option<&str>) -> Result<Surfa
         };
         return Ok(weld(facets, file));
     }
+    let hint = if bytes.starts_with(&[0x1f, 0x8b]) {
+        ": it is gzip-compressed; gunzip it first"
+    } else if file.ends_with(".geo") {
+        ": a .geo file is Gmsh's geometry; mesh it first (gmsh -1 or -2 FILE.geo -o FILE.msh)"
+    } else {
+        ""
+    };
     bad(format!(
-        "option {OPTION}: {file}: not a Gmsh mesh ($MeshFormat) or an STL file (solid ...)"
+        "option {OPTION}: {file}: not a Gmsh mesh ($MeshFormat) or an STL file (solid ...){hint}"
     ))
 }
 

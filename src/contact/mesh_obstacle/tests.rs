@@ -497,6 +497,16 @@ fn file_errors_name_the_file_and_line() {
         e.ends_with("not a Gmsh mesh ($MeshFormat) or an STL file (solid ...)"),
         "{e}"
     );
+    // The geometry instead of its mesh.
+    let geo = tmp("bad").join("floor.geo");
+    std::fs::write(&geo, "Point(1) = {0, 0, 0};\n").unwrap();
+    let e = message(MeshObstacle::read(&geo, 3));
+    assert!(
+        e.ends_with(
+            "a .geo file is Gmsh's geometry; mesh it first (gmsh -1 or -2 FILE.geo -o FILE.msh)"
+        ),
+        "{e}"
+    );
     let e = read_error(
         "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nendloop\n",
         3,
