@@ -1053,7 +1053,15 @@ impl<'a> Reader<'a> {
             match gmsh_type_name(gmsh_type) {
                 Some(name) => self.err(
                     at,
-                    format_args!("{name} (Gmsh type {gmsh_type}) is not supported ({SUPPORTED})"),
+                    format_args!(
+                        "{name} (Gmsh type {gmsh_type}) is not supported ({SUPPORTED}){}",
+                        if name.contains("-order") {
+                            "; mesh with first-order elements (gmsh -order 1, or \
+                             Mesh.ElementOrder = 1 in the .geo file)"
+                        } else {
+                            ""
+                        }
+                    ),
                 ),
                 None => self.err(
                     at,
@@ -2232,7 +2240,8 @@ $EndGhostElements
             err(s.as_bytes()),
             "t.msh:27: second-order triangle (Gmsh type 9) is not supported \
              (supported: points, 2-node lines, 3-node triangles, 4-node quadrilaterals, \
-             4-node tetrahedra, 8-node hexahedra, 6-node prisms, 5-node pyramids)"
+             4-node tetrahedra, 8-node hexahedra, 6-node prisms, 5-node pyramids); mesh with \
+             first-order elements (gmsh -order 1, or Mesh.ElementOrder = 1 in the .geo file)"
         );
         let s = SQ41.replace("2 1 2 2\n", "2 1 9 2\n");
         assert!(err(s.as_bytes())
