@@ -550,8 +550,19 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             Friction::Tresca => None,
         };
         if let Some(coulomb) = coulomb {
-            let load = assembled.load.read(|f| f.to_vec())?;
-            wellposed::check_loads(world, local, restraint, &assembled.contact, &load, coulomb)?;
+            let cs = &assembled.contact;
+            // A history: the loads its steps apply (not the whole load,
+            // which it may never apply).
+            match (&s.history, assembled.load_parts()) {
+                (Some(h), Some((parts, rest))) => {
+                    let steps = history::steps_to_check(h, rest);
+                    wellposed::check_steps(world, local, restraint, cs, &parts, &steps, coulomb)?;
+                }
+                _ => {
+                    let load = assembled.load.read(|f| f.to_vec())?;
+                    wellposed::check_loads(world, local, restraint, cs, &load, coulomb)?;
+                }
+            }
         }
         if assembled.matrix_mallocs != 0.0 {
             return Err(Error::Internal(format!(

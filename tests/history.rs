@@ -652,3 +652,60 @@ fn bad_histories_are_refused() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The check before the factorization judges the loads the steps apply,
+/// not the whole load (which a history may never apply): a pulling
+/// traction applied by negative factors presses the body and is solved;
+/// a step that pulls the body off is refused (exit 2) and named, on every
+/// rank count. A history that stops early still names its curve's columns.
+#[test]
+fn history_steps_are_judged_by_their_own_loads() {
+    let dir = scratch("history-steps-judged");
+    let table = dir.join("h.csv");
+    let t = table.to_str().unwrap();
+    // -traction_top 0,100 pulls; the factors -0.5, -1 press with 50, 100.
+    std::fs::write(&table, "step,factor\n1,-0.5\n2,-1\n").unwrap();
+    let pull = ["-options_file", "options/hertz", "-traction_top", "0,100"];
+    let mut args = pull.to_vec();
+    args.extend(["-load_history", t]);
+    let (_, rows, _) = history(&dir, "negative", 2, &args);
+    let force: Vec<f64> = rows.iter().map(|r| num(r, "contact_force_y")).collect();
+    assert!(
+        (force[0] - 400.0).abs() < 1e-6 && (force[1] - 800.0).abs() < 1e-6,
+        "{force:?}"
+    );
+    // Pressed, then pulled off at step 2: refused before the factorization.
+    std::fs::write(&table, "step,factor\n1,1\n2,-1\n").unwrap();
+    for ranks in [1, 2, 3] {
+        let run = mpirun(
+            ranks,
+            &["-options_file", "options/hertz", "-load_history", t],
+        );
+        let step =
+            format!("load step 2/2 (-load_history {t} -1.0000): the loads pull the body off");
+        run.refused("a step that pulls off", 2, &[&step]);
+    }
+    // Tresca (not judged before): the step fails, and the table of the
+    // step before it names the curve.
+    let out = dir.join("tresca.csv");
+    let run = mpirun(
+        2,
+        &[
+            "-options_file",
+            "options/hertz-tresca",
+            "-load_history",
+            t,
+            "-history_output",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(run.status, Some(3), "{}", run.context());
+    assert!(run.stderr.contains("load step 2/2"), "{}", run.context());
+    let rows = history_rows(&out);
+    assert_eq!(rows.len(), 1);
+    assert!(
+        num(&rows[0], "curve_force_traction_top_uy") < 0.0,
+        "{rows:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -19,8 +19,9 @@ use crate::report::{self, files, ContactRow};
 use crate::solver::outcome;
 use crate::solver::ubr::Whole;
 use crate::solver::Problem;
-use crate::wellposed::Restraint;
+use crate::wellposed::{LoadStep, Restraint, MAX_CHECKED_STEPS};
 use mpi::traits::*;
+use std::collections::HashSet;
 use std::time::Instant;
 
 /// The force-displacement curve of a history: a load group, a component,
@@ -226,6 +227,9 @@ impl<C: Communicator> ContactProblem<'_, C> {
         let t_all = Instant::now();
         let h = self.settings.history.clone().expect("a load history");
         let curve = Curve::new(self.world, local, &self.settings, problem)?;
+        // (Named now: a step that cannot go on ends the history early, and
+        // the table of the steps before it is written.)
+        self.curve_label = curve.label.clone();
         let n = h.factors.len();
         let friction = self.settings.friction != Friction::None;
         let s = &self.settings;
@@ -327,7 +331,6 @@ impl<C: Communicator> ContactProblem<'_, C> {
                 break;
             }
         }
-        self.curve_label = curve.label.clone();
         self.times.iterations = t_all.elapsed().as_secs_f64();
         Ok(last.expect("at least one step"))
     }
@@ -395,6 +398,43 @@ impl<C: Communicator> ContactProblem<'_, C> {
     }
 }
 
+/// The loads of a history's steps to judge before the factorization
+/// ([`crate::wellposed::check_steps`]): one per direction of the factors
+/// (a positive multiple of a load is held as it is; the rest's factor 1
+/// appended where `rest`), the first [`MAX_CHECKED_STEPS`] directions,
+/// named as the step's solve is.
+pub(super) fn steps_to_check(h: &LoadHistory, rest: bool) -> Vec<LoadStep> {
+    let n = h.factors.len();
+    let mut seen = HashSet::new();
+    let mut out = Vec::new();
+    for (k, f) in h.factors.iter().enumerate() {
+        let mut coefs = f.clone();
+        if rest {
+            coefs.push(1.0);
+        }
+        let big = coefs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        if big == 0.0 || !big.is_finite() {
+            continue;
+        }
+        let key: Vec<i64> = coefs
+            .iter()
+            .map(|x| (x / big * 1e12).round() as i64)
+            .collect();
+        if !seen.insert(key) {
+            continue;
+        }
+        let label = format!("load step {}/{n} ({} {})", k + 1, h.source, fmt_factors(f));
+        out.push(LoadStep {
+            label: Some(label),
+            coefs,
+        });
+        if out.len() == MAX_CHECKED_STEPS {
+            break;
+        }
+    }
+    out
+}
+
 fn fmt_factors(f: &[f64]) -> String {
     // (An exponent outside 1e-3..1e6: a factor of 1e300 is one number.)
     f.iter()
@@ -418,4 +458,32 @@ fn history_forces(s: &Settings, forces: &[(String, Vec<f64>, usize)]) -> Vec<(St
         .filter(|&(k, _)| rigid > 1 || k >= rigid)
         .map(|(_, (n, f, _))| (n.clone(), f.clone()))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn steps_are_checked_once_per_load_direction() {
+        let h = LoadHistory {
+            groups: vec![LoadGroup::All],
+            factors: vec![vec![0.5], vec![1.0], vec![0.0], vec![-1.0], vec![-0.25]],
+            source: "-load_history h.csv".into(),
+            curve: None,
+        };
+        let steps = steps_to_check(&h, false);
+        let labels: Vec<_> = steps.iter().map(|s| s.label.clone().unwrap()).collect();
+        assert_eq!(
+            labels,
+            [
+                "load step 1/5 (-load_history h.csv 0.5000)",
+                "load step 4/5 (-load_history h.csv -1.0000)"
+            ]
+        );
+        // With the rest at factor 1, each step's factors are a direction.
+        let steps = steps_to_check(&h, true);
+        assert_eq!(steps.len(), 5);
+        assert_eq!(steps[2].coefs, [0.0, 1.0]);
+    }
 }

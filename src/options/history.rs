@@ -217,6 +217,15 @@ pub fn parse(path: &str, text: &str, loads: &Loads) -> Result<LoadHistory, Error
             format!("the header '{header}' must be 'step,factor' or 'step,GROUP,...'"),
         );
     }
+    if let Some(i) = cols.iter().position(|c| c.is_empty()) {
+        return err(
+            hl,
+            format!(
+                "column {} of the header '{header}' has no name (a comma too many?)",
+                i + 1
+            ),
+        );
+    }
     let mut groups = Vec::new();
     for c in &cols[1..] {
         let g = if *c == "factor" && cols.len() == 2 {
@@ -332,6 +341,9 @@ mod tests {
         let e = |text: &str| parse("h.csv", text, &l).unwrap_err().to_string();
         assert!(e("").contains("has no table"));
         assert!(e("step,factor\n").contains("a header and no step"));
+        assert!(e("step,factor,\n1,1,\n").contains(
+            "line 1: column 3 of the header 'step,factor,' has no name (a comma too many?)"
+        ));
         assert!(e("step,traction_bottom\n1,1\n").contains("line 1: column 'traction_bottom' is not a load group of this run (groups: traction_top, dirichlet_left"));
         assert!(e("step,factor\n1,1\n3,1\n").contains("line 3: step '3' where step 2"));
         assert!(

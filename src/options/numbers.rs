@@ -18,6 +18,16 @@ pub(crate) fn shown(x: f64) -> String {
     }
 }
 
+/// `x` to nine decimals, without trailing zeros ("0.5", "0", "-0.98").
+fn nine_digits(x: f64) -> String {
+    let s = format!("{x:.9}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    match s {
+        "-0" | "" => "0".to_string(),
+        s => s.to_string(),
+    }
+}
+
 /// "a,b,c" as a user types it.
 fn joined(v: &[f64]) -> String {
     v.iter().map(|&x| shown(x)).collect::<Vec<_>>().join(",")
@@ -50,8 +60,16 @@ pub(super) fn unit(
         big
     };
     if (norm - 1.0).abs() > UNIT_TOLERANCE {
+        // A direction typed unnormalised, (0.2,0,-1): the unit vector along
+        // it to paste (not taken silently: the other number may be a typo).
+        let along = if norm > 0.0 && norm.is_finite() {
+            let u: Vec<String> = v.iter().map(|x| nine_digits(x / norm)).collect();
+            format!("; the unit vector along it is {}", u.join(","))
+        } else {
+            String::new()
+        };
         return bad(format!(
-            "option {name}: ({}) is not a unit vector (norm {})",
+            "option {name}: ({}) is not a unit vector (norm {}){along}",
             joined(&v),
             shown(norm)
         ));
@@ -69,4 +87,30 @@ pub(super) fn unit(
         ));
     }
     Ok(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_direction_off_unit_length_is_refused_with_the_unit_vector_along_it() {
+        let mut notes = Vec::new();
+        let e = unit("-contact_direction", vec![0.2, 0.0, -1.0], &mut notes)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("(0.2,0,-1) is not a unit vector")
+                && e.contains("the unit vector along it is 0.196116135,0,-0.980580676"),
+            "{e}"
+        );
+        // A zero vector has no direction to offer.
+        let e = unit("-contact_direction", vec![0.0, 0.0], &mut notes)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("norm 0)") && !e.contains("along it"), "{e}");
+        // Within the tolerance: normalised with a note.
+        let v = unit("-contact_direction", vec![0.6, -0.8004], &mut notes).unwrap();
+        assert!((v[0] - 0.6 / 0.6f64.hypot(0.8004)).abs() < 1e-15 && notes.len() == 1);
+    }
 }

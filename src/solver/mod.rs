@@ -177,6 +177,20 @@ pub struct Assembled {
     transform: Option<mortar::Transform>,
 }
 
+impl Assembled {
+    /// A history's load parts, per owned dof: each named group's f, then
+    /// the rest (which stays at factor 1; `true` where there is one); the
+    /// whole load for a proportional history; None without a history.
+    pub fn load_parts(&self) -> Option<(Vec<&[f64]>, bool)> {
+        let p = self.parts.as_ref()?;
+        let mut v: Vec<&[f64]> = p.parts.iter().map(|x| x.load.as_slice()).collect();
+        if let Some(r) = &p.rest {
+            v.push(&r.load);
+        }
+        Some((v, p.rest.is_some()))
+    }
+}
+
 impl Problem {
     /// Assembly stage: `K + r B^T W B` at `r` (K alone for SSN-C), the load,
     /// and the symmetric elimination of the Dirichlet dofs `dirichlet`

@@ -1,0 +1,411 @@
+//! Can the contact hold the loads? The check before the factorization
+//! ([`check_loads`]): the loads' work on the rigid motions that only the
+//! contact holds must lie in the cone of the contact forces (frictionless:
+//! pushes; Coulomb: within the friction cone), a non-negative
+//! least-squares problem on rank 0; with a load history, at each step's
+//! load ([`check_steps`]).
+
+use super::Restraint;
+use crate::comm::{allreduce_sum_vec, Layout};
+use crate::contact::ContactSet;
+use crate::error::Error;
+use crate::mesh::distribute::LocalMesh;
+use mpi::traits::*;
+use nalgebra::DMatrix;
+
+/// Rays of the polygonal friction cone in 3D (the circular cone lies
+/// between the polygon through the rays and the one around them).
+const CONE_RAYS: usize = 16;
+
+/// Can the contact hold the loads? Along the rigid motions that no
+/// Dirichlet condition restrains (`K v_j = 0`), every solution balances the
+/// load's work `b_j = f . v_j` by contact forces alone:
+/// `b = sum_i w_i (lambda_n,i a_i + lambda_t,i . t_i)` with
+/// `a_i = (n . v_j(x_i))_j`, `t_i` the tangential displacements of the
+/// motions. Frictionless contact can only push (`lambda_n >= 0`, no
+/// `lambda_t`); with Coulomb friction the force lies in the cone
+/// `|lambda_t| <= nu_f lambda_n`, spanned by the rays `n + nu_f t` (two in
+/// 2D; in 3D a polygon of [`CONE_RAYS`] rays, taken around the circle so
+/// that a load outside it is surely outside the circular cone). So the
+/// scene has a solution only if b lies in the cone of those columns, a
+/// non-negative least-squares problem in at most 6 rows per body (solved
+/// on rank 0). Outside it no equilibrium exists, whatever the gaps (they
+/// only decide where the body touches) and the prescribed displacements
+/// (which do no work on these motions): the loads pull the body off the
+/// obstacle, or push it along harder than friction can hold, an
+/// ill-posed scene named now (exit 2) rather than met as a drift of
+/// thousands of iterations. With `coulomb` None the friction is taken as
+/// absent (frictionless contact; a Tresca bound is not checked here).
+pub fn check_loads<C: Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    restraint: &Restraint,
+    cs: &ContactSet,
+    load: &[f64],
+    coulomb: Option<f64>,
+) -> Result<(), Error> {
+    let whole = [LoadStep {
+        label: None,
+        coefs: vec![1.0],
+    }];
+    check_steps(world, mesh, restraint, cs, &[load], &whole, coulomb)
+}
+
+/// The most distinct load directions of a history [`check_steps`] judges
+/// (each a small non-negative least-squares problem on rank 0): a history
+/// of a million steps in as many directions is judged on its first ones.
+pub const MAX_CHECKED_STEPS: usize = 10_000;
+
+/// One load to judge: `sum_p coefs[p] parts[p]`, named by `label` (a load
+/// step) in the message.
+pub struct LoadStep {
+    pub label: Option<String>,
+    pub coefs: Vec<f64>,
+}
+
+/// [`check_loads`] at each of `steps` (combinations of the load `parts`,
+/// per owned dof), the first that the contact cannot hold named: a load
+/// history applies its steps' loads, not the whole load at once (which
+/// may never be applied: a table of negative factors of a pulling load).
+/// The loads' work on the motions and the contact's columns are made once.
+pub fn check_steps<C: Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    restraint: &Restraint,
+    cs: &ContactSet,
+    parts: &[&[f64]],
+    steps: &[LoadStep],
+    coulomb: Option<f64>,
+) -> Result<(), Error> {
+    let modes = &restraint.contact_held;
+    let k = modes.len();
+    if k == 0 || steps.is_empty() {
+        return Ok(());
+    }
+    let d = mesh.dim;
+    // Per part: b = f . v_j over the owned nodes, and the resultant of the
+    // load on the bodies that have such motions (for the message).
+    let work: Vec<f64> = parts
+        .iter()
+        .flat_map(|load| load_work(mesh, restraint, load))
+        .collect();
+    let work = allreduce_sum_vec(world, &work);
+    let columns = contact_columns(mesh, restraint, cs, coulomb);
+    let all = Layout::new(world, columns.len()).gather(world, &columns);
+    // [the failing step + 1 (0: none), its relative residual]
+    let mut verdict = [0.0f64; 2];
+    if world.rank() == 0 {
+        let a = DMatrix::from_column_slice(k, all.len() / k, &all);
+        for (s, step) in steps.iter().enumerate() {
+            let b = combine(&work, k + 3, &step.coefs);
+            let bv = nalgebra::DVector::from_column_slice(&b[..k]);
+            let bn = bv.norm();
+            if bn > 0.0 {
+                let x = nnls(&a, &bv);
+                let res = (&a * &x - &bv).norm() / bn;
+                if res > 1e-6 {
+                    verdict = [(s + 1) as f64, res];
+                    break;
+                }
+            }
+        }
+    }
+    world.process_at_rank(0).broadcast_into(&mut verdict[..]);
+    if verdict[0] == 0.0 {
+        return Ok(());
+    }
+    let step = &steps[verdict[0] as usize - 1];
+    let b = combine(&work, k + 3, &step.coefs);
+    let why = ill_posed(
+        restraint,
+        &b[k..],
+        cs.common_normal(),
+        d,
+        coulomb,
+        verdict[1],
+    );
+    Err(Error::IllPosed(match &step.label {
+        Some(label) => format!("{label}: {why}"),
+        None => why,
+    }))
+}
+
+/// `sum_p coefs[p] work[p]`, each part's `len` numbers in turn.
+fn combine(work: &[f64], len: usize, coefs: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; len];
+    for (w, &c) in work.chunks(len).zip(coefs) {
+        out.iter_mut().zip(w).for_each(|(o, w)| *o += c * w);
+    }
+    out
+}
+
+/// The load's work `f . v_j` on each motion over the owned nodes, then the
+/// resultant (3 numbers) on the bodies that have such motions.
+fn load_work(mesh: &LocalMesh, restraint: &Restraint, load: &[f64]) -> Vec<f64> {
+    let (modes, bodies) = (&restraint.contact_held, &restraint.bodies);
+    let (k, d) = (modes.len(), mesh.dim);
+    let mut b = vec![0.0; k + 3];
+    let mut has_modes = vec![false; bodies.len()];
+    for m in modes {
+        has_modes[m.body] = true;
+    }
+    for v in 0..mesh.owned_count {
+        let x = mesh.x(v);
+        let body = bodies.node_body[v];
+        for (j, m) in modes.iter().enumerate() {
+            if body != m.body {
+                continue;
+            }
+            let u = bodies.displacement(m, x);
+            for c in 0..d {
+                b[j] += load[v * d + c] * u[c];
+            }
+        }
+        if has_modes[body] {
+            for c in 0..d {
+                b[k + c] += load[v * d + c];
+            }
+        }
+    }
+    b
+}
+
+/// The columns of the owned candidates: the work of each ray of each one's
+/// cone (around its own normal) on the motions, `k` numbers per ray.
+fn contact_columns(
+    mesh: &LocalMesh,
+    restraint: &Restraint,
+    cs: &ContactSet,
+    coulomb: Option<f64>,
+) -> Vec<f64> {
+    let (modes, bodies) = (&restraint.contact_held, &restraint.bodies);
+    let d = mesh.dim;
+    let mut cols: Vec<f64> = Vec::new();
+    for (i, &v) in cs.node.iter().enumerate() {
+        let x = mesh.x(v);
+        let rays = cone_rays(cs.n(i), d, coulomb);
+        // A contact pair's force acts on both bodies: on the master,
+        // opposite, at the node's image.
+        let master = cs
+            .pair
+            .get(i)
+            .and_then(|&p| restraint.pair_master.get(p))
+            .map(|&b| (b, &cs.image[i * d..(i + 1) * d]));
+        for ray in &rays {
+            for m in modes {
+                let work = |at: &[f64]| {
+                    let u = bodies.displacement(m, at);
+                    cs.w[i] * (0..d).map(|c| u[c] * ray[c]).sum::<f64>()
+                };
+                let mut a = if bodies.node_body[v] == m.body {
+                    work(x)
+                } else {
+                    0.0
+                };
+                if let Some((_, image)) = master.filter(|&(b, _)| b == m.body) {
+                    a -= work(image);
+                }
+                cols.push(a);
+            }
+        }
+    }
+    cols
+}
+
+/// The rays of the (outer polygon of the) friction cone around n of
+/// `coulomb`'s coefficient, or n alone (frictionless).
+fn cone_rays(n: &[f64], d: usize, coulomb: Option<f64>) -> Vec<[f64; 3]> {
+    let nu = coulomb.unwrap_or(0.0);
+    // The tangent directions of the rays: +-t in 2D, CONE_RAYS around n in 3D.
+    let tangents = tangent_rays(n);
+    // The outer polygon: its rays reach nu / cos(pi / CONE_RAYS) in 3D.
+    let nu_out = if d == 3 {
+        nu / (std::f64::consts::PI / CONE_RAYS as f64).cos()
+    } else {
+        nu
+    };
+    if coulomb.is_some() && nu > 0.0 {
+        tangents
+            .iter()
+            .map(|t| {
+                [
+                    n[0] + nu_out * t[0],
+                    n[1] + nu_out * t[1],
+                    n.get(2).copied().unwrap_or(0.0) + nu_out * t[2],
+                ]
+            })
+            .collect()
+    } else {
+        vec![[n[0], n[1], n.get(2).copied().unwrap_or(0.0)]]
+    }
+}
+
+/// Why the loads cannot be held: in words of the resultant where the
+/// contact alone holds every translation of a single body, else of the
+/// motions (`residual`: the relative residual of the best contact forces).
+fn ill_posed(
+    restraint: &Restraint,
+    resultant: &[f64],
+    n: Option<&[f64]>,
+    d: usize,
+    coulomb: Option<f64>,
+    residual: f64,
+) -> String {
+    let (modes, bodies) = (&restraint.contact_held, &restraint.bodies);
+    let nu = coulomb.unwrap_or(0.0);
+    let fmt = |v: f64| format!("{v:.4e}");
+    let hint = "check the signs of the loads, the contact direction (-contact_direction points from the body toward the obstacle) and the obstacle's position";
+    // The resultant speaks plainly where the contact alone holds every
+    // translation of a single body: N = F.n must push, |F_t| <= nu_f N.
+    // (With normals of their own, the candidates have no one direction.)
+    let translations_free = n.is_some()
+        && bodies.len() == 1
+        && (0..d).all(|c| {
+            let p2: f64 = modes.iter().map(|m| m.coef[c] * m.coef[c]).sum();
+            p2 > 1.0 - 1e-8
+        });
+    let n = n.unwrap_or(&[0.0; 3][..d]);
+    let f_n: f64 = (0..d).map(|c| resultant[c] * n[c]).sum();
+    let f_t = (0..d)
+        .map(|c| (resultant[c] - f_n * n[c]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    if translations_free && f_n <= 0.0 {
+        format!(
+            "the loads pull the body off the obstacle: their resultant along the contact direction is {} (it must push the body onto the obstacle, > 0), and nothing else holds the body; {hint}",
+            fmt(f_n)
+        )
+    } else if translations_free && coulomb.is_some() && f_t > nu * f_n {
+        format!(
+            "the tangential load {} exceeds nu_f N = {} x {} = {}: friction cannot hold the body (no Dirichlet condition holds it along the obstacle); lower the tangential load, raise -friction_coefficient, or add a Dirichlet condition",
+            fmt(f_t),
+            nu,
+            fmt(f_n),
+            fmt(nu * f_n)
+        )
+    } else if coulomb.is_some() {
+        format!(
+            "the contact cannot hold the loads: along the rigid motions that no Dirichlet condition restrains, no contact forces within the friction cone (|lambda_t| <= nu_f lambda_n = {nu} lambda_n) balance them (relative residual {:.2}), so the body slides, tips or lifts off; lower the loads, raise -friction_coefficient, or add a Dirichlet condition; {hint}",
+            residual
+        )
+    } else {
+        format!(
+            "the loads pull the body off the obstacle: along the motions that only the contact holds, no contact pressure (which can only push) balances them (relative residual {:.2}), so nothing holds the body; {hint}",
+            residual
+        )
+    }
+}
+
+/// Unit tangents of the friction cone's rays around n: `t, -t` in 2D
+/// (`t = (-n_y, n_x)`), [`CONE_RAYS`] directions around n in 3D.
+fn tangent_rays(n: &[f64]) -> Vec<[f64; 3]> {
+    if n.len() == 2 {
+        return vec![[-n[1], n[0], 0.0], [n[1], -n[0], 0.0]];
+    }
+    // t1: the axis least aligned with n, made orthogonal; t2 = n x t1.
+    let axis = (0..3)
+        .min_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
+        .unwrap_or(0);
+    let mut t1 = [0.0; 3];
+    t1[axis] = 1.0;
+    let dot: f64 = (0..3).map(|c| t1[c] * n[c]).sum();
+    for c in 0..3 {
+        t1[c] -= dot * n[c];
+    }
+    let norm = (t1.iter().map(|v| v * v).sum::<f64>()).sqrt();
+    t1.iter_mut().for_each(|v| *v /= norm);
+    let t2 = [
+        n[1] * t1[2] - n[2] * t1[1],
+        n[2] * t1[0] - n[0] * t1[2],
+        n[0] * t1[1] - n[1] * t1[0],
+    ];
+    (0..CONE_RAYS)
+        .map(|q| {
+            let th = 2.0 * std::f64::consts::PI * q as f64 / CONE_RAYS as f64;
+            let (s, c) = th.sin_cos();
+            [
+                c * t1[0] + s * t2[0],
+                c * t1[1] + s * t2[1],
+                c * t1[2] + s * t2[2],
+            ]
+        })
+        .collect()
+}
+
+/// Non-negative least squares `min ||A x - b||, x >= 0` (Lawson and
+/// Hanson's active-set method), for A with few rows.
+fn nnls(a: &DMatrix<f64>, b: &nalgebra::DVector<f64>) -> nalgebra::DVector<f64> {
+    let n = a.ncols();
+    let mut x = nalgebra::DVector::<f64>::zeros(n);
+    let mut passive = vec![false; n];
+    let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs())) * b.norm();
+    let tol = 1e-12 * scale.max(f64::MIN_POSITIVE);
+    let solve_passive = |passive: &[bool]| -> nalgebra::DVector<f64> {
+        let idx: Vec<usize> = (0..n).filter(|&j| passive[j]).collect();
+        let sub = a.select_columns(&idx);
+        let z = sub
+            .svd(true, true)
+            .solve(b, 1e-12)
+            .unwrap_or_else(|_| nalgebra::DVector::zeros(idx.len()));
+        let mut s = nalgebra::DVector::zeros(n);
+        for (p, &j) in idx.iter().enumerate() {
+            s[j] = z[p];
+        }
+        s
+    };
+    for _outer in 0..3 * n.max(1) {
+        let w = a.transpose() * (b - a * &x);
+        let Some(j) = (0..n)
+            .filter(|&j| !passive[j] && w[j] > tol)
+            .max_by(|&p, &q| w[p].total_cmp(&w[q]))
+        else {
+            break;
+        };
+        passive[j] = true;
+        loop {
+            let s = solve_passive(&passive);
+            if (0..n).filter(|&j| passive[j]).all(|j| s[j] > 0.0) {
+                x = s;
+                break;
+            }
+            let mut alpha = f64::INFINITY;
+            for j in (0..n).filter(|&j| passive[j] && s[j] <= 0.0) {
+                alpha = alpha.min(x[j] / (x[j] - s[j]));
+            }
+            x += (s - &x) * alpha;
+            for j in 0..n {
+                if passive[j] && x[j] <= 1e-14 * scale.max(1.0) {
+                    passive[j] = false;
+                    x[j] = 0.0;
+                }
+            }
+            if !passive.iter().any(|&p| p) {
+                break;
+            }
+        }
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nnls_finds_cone_membership() {
+        // Columns (1, 0), (1, 1), (1, -1): the cone is x >= |y|.
+        let a = DMatrix::from_row_slice(2, 3, &[1.0, 1.0, 1.0, 0.0, 1.0, -1.0]);
+        for (b, inside) in [
+            ([2.0, 1.0], true),
+            ([1.0, -1.0], true),
+            ([-1.0, 0.0], false),
+            ([1.0, 2.0], false),
+        ] {
+            let bv = nalgebra::DVector::from_column_slice(&b);
+            let x = nnls(&a, &bv);
+            assert!(x.iter().all(|&v| v >= 0.0));
+            let res = (&a * &x - &bv).norm() / bv.norm();
+            assert_eq!(res < 1e-9, inside, "b = {b:?}: residual {res}, x = {x}");
+        }
+    }
+}
