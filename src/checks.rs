@@ -816,10 +816,10 @@ pub fn result_warnings<C: Communicator>(
     }
     if shape.inverted > 0 {
         out.push(format!(
-            "{} of {} elements invert in the deformed shape x + u (largest strain {:.0}%): the model is linear elasticity, for small deformations, and this answer is not physical; reduce the load or the prescribed displacement",
+            "{} of {} elements invert in the deformed shape x + u (largest strain {}): the model is linear elasticity, for small deformations, and this answer is not physical; reduce the load or the prescribed displacement",
             shape.inverted,
             local.global_cells,
-            100.0 * shape.max_strain
+            percent(shape.max_strain)
         ));
     } else if shape.max_strain > STRAIN_LIMIT {
         out.push(format!(
@@ -829,6 +829,17 @@ pub fn result_warnings<C: Communicator>(
         ));
     }
     out
+}
+
+/// A strain as a percentage, "458%"; past 1e6 % (a load absurd against E)
+/// with an exponent, "9.19e33%".
+fn percent(strain: f64) -> String {
+    let p = 100.0 * strain;
+    if p.abs() >= 1e6 {
+        format!("{p:.2e}%")
+    } else {
+        format!("{p:.0}%")
+    }
 }
 
 /// Friction carried by open candidates above this fraction of the whole

@@ -450,3 +450,64 @@ fn tiny_young_modulus_falls_back_to_full_solves() {
         assert!(gap < 1e-6, "{ranks} ranks: {gap:.2e} from the E = 1e6 run");
     }
 }
+
+/// A very soft body held by the contact alone (E = 0.2 under Hertz's
+/// load: its first iterate already moves ten times its size) is solved,
+/// with the warning that its elements invert; it was called "moves without
+/// bound" (exit 3). Its contact stresses match a run at a tight tolerance
+/// within the estimate, on 1 and 2 ranks. A Tresca bound too small for the
+/// tangential load (nothing else holds the body along the plane) still
+/// ends as a body that moves without bound, named.
+#[test]
+fn a_very_soft_body_is_solved_and_a_sliding_one_named() {
+    let args = |tol: &'static str| {
+        vec![
+            "-options_file",
+            "options/hertz",
+            "-E",
+            "0.2",
+            "-ubr_lambda_rtol",
+            tol,
+        ]
+    };
+    let (_, _, tight) = solve_rows("soft-tight", 1, &args("1e-10"));
+    for ranks in [1, 2] {
+        let (run, report, rows) = solve_rows("soft", ranks, &args("1e-3"));
+        assert!(report.converged, "{}", run.context());
+        assert_eq!(
+            run.stderr_with("elements invert").len(),
+            1,
+            "{}",
+            run.context()
+        );
+        let gap = max_pressure_gap(&rows, &tight);
+        assert!(gap < 1e-3, "{ranks} ranks: {gap:.2e} from the tight run");
+    }
+    let run = mpirun(
+        2,
+        &[
+            "-options_file",
+            "options/hertz",
+            "-traction_top",
+            "30,-100",
+            "-dirichlet_symmetry",
+            "uy=0",
+            "-friction",
+            "tresca",
+            "-friction_coefficient",
+            "0.1",
+            "-tresca_bound",
+            "0.1",
+        ],
+    );
+    assert_eq!(run.status, Some(3), "{}", run.context());
+    assert!(
+        run.stderr.contains("the body moves without bound")
+            && run
+                .stderr
+                .contains("ten times the size and gap of the bodies")
+            && run.stderr.contains("contact nodes slips"),
+        "{}",
+        run.context()
+    );
+}

@@ -62,6 +62,10 @@ pub(super) struct Run<'a, C: Communicator> {
     /// and the stresses not decaying; the stress scale at the first of them.
     drifting: usize,
     drift_stress: f64,
+    /// The largest displacement of a contact node at the first iterate:
+    /// the scale of the elastic response (a very soft body held by the
+    /// contact moves further than its size and is not drifting).
+    first_umax: Option<f64>,
     cold: bool,
     was_condensed: bool,
     last: Sums,
@@ -158,6 +162,7 @@ impl<'a, C: Communicator> Run<'a, C> {
             u_prev,
             drifting: 0,
             drift_stress: 0.0,
+            first_umax: None,
             cold,
             was_condensed,
             last: Sums::default(),
@@ -583,8 +588,9 @@ impl<'a, C: Communicator> Run<'a, C> {
         // Any body that contact alone holds, moving without bound: no
         // contact state holds the loads (a Tresca bound too small for the
         // tangential load, a pressure that friction cannot use).
-        if ext.umax > self.ctl.drift_limit {
-            return Err(unbounded(self, sums, ext));
+        let first = *self.first_umax.get_or_insert(ext.umax);
+        if ext.umax > self.ctl.drift_limit.max(10.0 * first) {
+            return Err(unbounded(self, sums, ext, first));
         }
         Ok(())
     }
@@ -859,7 +865,9 @@ impl<'a, C: Communicator> Run<'a, C> {
 
 /// The error of iterates that move without bound: what holds the bodies
 /// and what to try.
-fn unbounded<C: Communicator>(run: &Run<'_, C>, sums: &Sums, ext: &Maxima) -> Error {
+/// `first`: the largest displacement of a contact node at the first
+/// iterate, where ten times it is above the drift limit.
+fn unbounded<C: Communicator>(run: &Run<'_, C>, sums: &Sums, ext: &Maxima, first: f64) -> Error {
     let (name, k, ctl) = (run.name, run.k, run.ctl);
     if let Some(r0) = ctl.r_far {
         return Error::NotConverged(format!(
@@ -878,9 +886,16 @@ fn unbounded<C: Communicator>(run: &Run<'_, C>, sums: &Sums, ext: &Maxima) -> Er
     } else {
         format!("{} nodes touch the obstacle", sums.contact)
     };
+    let scale = if 10.0 * first > ctl.drift_limit {
+        format!("its largest displacement at the first iterate ({first:.3e})")
+    } else {
+        format!(
+            "the size and gap of the bodies that only contact holds ({:.3e})",
+            ctl.drift_limit / 10.0
+        )
+    };
     Error::NotConverged(format!(
-        "{name}: the body moves without bound: after {k} iterations a contact node has moved {:.3e}, ten times the size and gap of the bodies that only contact holds ({:.3e}); {what}; no contact state found holds the loads (lower the loads, raise the friction, or add a Dirichlet condition; where another method finds an answer, the iteration is at fault: try -ubr_anderson 0)",
+        "{name}: the body moves without bound: after {k} iterations a contact node has moved {:.3e}, ten times {scale}; {what}; no contact state found holds the loads (lower the loads, raise the friction, or add a Dirichlet condition; where another method finds an answer, the iteration is at fault: try -ubr_anderson 0)",
         ext.umax,
-        ctl.drift_limit / 10.0
     ))
 }
