@@ -62,9 +62,8 @@ pub(super) struct Run<'a, C: Communicator> {
     /// and the stresses not decaying; the stress scale at the first of them.
     drifting: usize,
     drift_stress: f64,
-    /// The largest displacement of a contact node at the first iterate:
-    /// the scale of the elastic response (a very soft body held by the
-    /// contact moves further than its size and is not drifting).
+    /// A contact node's largest displacement at the first iterate: the
+    /// scale of the elastic response (a very soft body moves past its size).
     first_umax: Option<f64>,
     cold: bool,
     was_condensed: bool,
