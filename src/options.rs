@@ -732,6 +732,7 @@ fn load_history(
 impl Settings {
     /// Reads every option. Runs identically on every rank, so its errors are collective.
     pub fn from_options() -> Result<Settings, Error> {
+        unused::assignments()?;
         let mesh = mesh_source()?;
         let Some(young) = YOUNG.real()? else {
             return bad("option -E (Young's modulus) is required");

@@ -221,6 +221,19 @@ fn non_positive_young_modulus() {
     expect_bad("Eneg", &hertz(&["-E", "-5"]), "-E");
 }
 
+/// `-E=5000` (PETSc takes it for a name without a value: the run went on
+/// with the options file's E, warned only at its end) is refused, with the
+/// option as it should be written; so is a family's, on 1 and 2 ranks.
+#[test]
+fn an_option_written_with_an_equals_sign_is_refused() {
+    for ranks in [1, 2] {
+        let run = mpirun(ranks, &hertz(&["-E=5000"]));
+        run.refused("-E=5000", 2, &["option -E=5000: an option and its value are separated by a space, not '=' (write -E 5000)"]);
+        let run = mpirun(ranks, &hertz(&["-dirichlet_symmetry=ux=0"]));
+        run.refused("family", 2, &["(write -dirichlet_symmetry ux=0)"]);
+    }
+}
+
 #[test]
 fn poisson_ratio_out_of_range() {
     expect_bad("nu05", &hertz(&["-nu", "0.5"]), "-nu");

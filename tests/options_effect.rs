@@ -62,6 +62,14 @@ fn friction_options_on_a_frictionless_contact() {
     // The typo leaves the run frictionless: named with the option meant.
     let run = hertz442(&["-frcition", "coulomb", "-friction_coefficient", "0.5"]);
     named_once(&run, "-frcition", "was not used; did you mean -friction?");
+    // Two dashes: the option meant, not "an option of PETSc's linear
+    // solvers" (PETSc keeps `--friction` as the name `-friction`).
+    let run = hertz442(&["--friction", "coulomb", "-friction_coefficient", "0.5"]);
+    named_once(
+        &run,
+        "--friction",
+        "was not used: options take one dash; did you mean -friction?",
+    );
     named_once(&run, "-friction_coefficient", why);
     // Tresca with a given bound does not use nu_f, nor CF-FP's settings.
     let run = hertz442(&[

@@ -203,6 +203,15 @@ pub fn message(name: &str, used: &[String]) -> String {
             "warning: option {name} was not used: PETSc's linear solvers know it, but the one of this run did not read it (-help lists what it reads)"
         );
     }
+    // `--friction`, `--ksp_type`: a known name typed with two dashes.
+    let one_dash = name.strip_prefix('-').filter(|n| {
+        n.starts_with('-') && (declared(n) || suggestion(name, used).as_deref() == Some(*n))
+    });
+    if let Some(single) = one_dash {
+        return format!(
+            "warning: option {name} was not used: options take one dash; did you mean {single}?"
+        );
+    }
     match suggestion(name, used) {
         Some(s) => format!("warning: option {name} was not used; did you mean {s}?"),
         None => format!(
@@ -253,6 +262,22 @@ const PETSC_PREFIXES: &[&str] = &[
     "-mpi",
     "-prefix",
 ];
+
+/// Refuses an option written `-E=5000`: PETSc takes it all for a name
+/// without a value (and `-dirichlet_left=ux=0` for a group
+/// `left=ux=0`), and the run would go on with another E. Called before
+/// any option is read.
+pub fn assignments() -> Result<(), Error> {
+    for name in options::unused()? {
+        if let Some((key, value)) = name.split_once('=') {
+            first_time(&name);
+            return Err(Error::BadInput(format!(
+                "option {name}: an option and its value are separated by a space, not '=' (write {key} {value})"
+            )));
+        }
+    }
+    Ok(())
+}
 
 /// The warning lines for the options that look like the program's and are
 /// none of them (`-frcition`: the run would be frictionless), once the
@@ -333,6 +358,10 @@ mod tests {
             Some("-ubr_rtol")
         );
         assert_eq!(suggestion("-frictoin", &none).as_deref(), Some("-friction"));
+        assert_eq!(
+            message("--friction", &none),
+            "warning: option --friction was not used: options take one dash; did you mean -friction?"
+        );
         assert_eq!(suggestion("-gravty", &none).as_deref(), Some("-gravity"));
         assert_eq!(
             suggestion("-dirichlett_left", &none).as_deref(),

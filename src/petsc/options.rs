@@ -92,7 +92,8 @@ pub(super) fn left_in(db: sys::PetscOptions) -> Result<Vec<String>, Error> {
     let names_read = unsafe { strings_from(names as *const *const c_char, n.max(0) as usize) };
     let out = names_read
         .iter()
-        .map(|name| format!("-{}", name.trim_start_matches('-')))
+        // (PETSc keeps a name without its leading dash: `--E` as `-E`.)
+        .map(|name| format!("-{name}"))
         .collect();
     // SAFETY: gives back the arrays PETSc made above, once.
     check(unsafe { sys::PetscOptionsLeftRestore(db, &mut n, &mut names, &mut values) })?;
