@@ -249,3 +249,55 @@ fn mumps_controls_without_mumps_are_named_unused() {
         assert!(!lines[0].contains("did you mean"), "{}", lines[0]);
     }
 }
+
+/// The options of named obstacles (`-obstacles`) are named by what is
+/// wrong with them: an obstacle not listed, a key its kind does not take,
+/// a mistyped key (each was "did you mean -obstacle_radius?"); and a run
+/// that fails before reading them does not call the listed ones typos.
+#[test]
+fn named_obstacle_options_are_named_by_their_fault() {
+    let dir = scratch("named-obstacles");
+    let opts = dir.join("two-obstacles");
+    std::fs::write(
+        &opts,
+        "-mesh meshes/hertz_442.msh\n-E 2000\n-nu 0.3\n-dirichlet_symmetry ux=0\n\
+         -traction_top 0,-100\n-contact_surface contact\n-obstacles a\n-obstacle_a plane\n\
+         -obstacle_a_point 0,0\n-obstacle_a_direction 0,-1\n",
+    )
+    .unwrap();
+    let o = opts.to_str().unwrap();
+    let run = mpirun(
+        2,
+        &[
+            "-options_file",
+            o,
+            "-obstacle_b_radius",
+            "1",
+            "-obstacle_a_radius",
+            "1",
+            "-obstacle_a_pont",
+            "0,0",
+        ],
+    );
+    named_once(
+        &run,
+        "-obstacle_b_radius",
+        "'b' is no obstacle of this run (-obstacles names a)",
+    );
+    named_once(
+        &run,
+        "-obstacle_a_radius",
+        "obstacle 'a' is a plane (-obstacle_a), which takes no _radius",
+    );
+    named_once(&run, "-obstacle_a_pont", "did you mean -obstacle_a_point?");
+    // A run refused before the obstacles are read: one error, no warning
+    // about the listed obstacle's options.
+    let run = mpirun(2, &["-options_file", o, "-obstacle", "plane"]);
+    run.refused(
+        "two kinds",
+        2,
+        &["with -obstacles each obstacle has its own options"],
+    );
+    assert!(warnings(&run).is_empty(), "{}", run.stderr);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -179,6 +179,112 @@ fn owned_icntl(name: &str) -> Option<usize> {
     crate::mumps::OWNED_ICNTL.contains(&i).then_some(i)
 }
 
+/// The keys of a named obstacle's options, `-obstacle_NAME_KEY`.
+const OBSTACLE_KEYS: [&str; 8] = [
+    "point",
+    "center",
+    "radius",
+    "axis",
+    "direction",
+    "mesh",
+    "mesh_group",
+    "search_distance",
+];
+
+/// The obstacle of an option of the `-obstacles` family: `(NAME, KEY)`
+/// of `-obstacle_NAME_KEY` (KEY empty for `-obstacle_NAME`) where NAME is
+/// one of `listed`, or, with a KEY of [`OBSTACLE_KEYS`], any NAME.
+fn obstacle_of(name: &str, listed: &[String]) -> Option<(String, String)> {
+    let rest = name.strip_prefix("-obstacle_")?;
+    for n in listed {
+        if rest == n {
+            return Some((n.clone(), String::new()));
+        }
+        if let Some(key) = rest
+            .strip_prefix(n.as_str())
+            .and_then(|k| k.strip_prefix('_'))
+        {
+            if OBSTACLE_KEYS.contains(&key) {
+                return Some((n.clone(), key.to_string()));
+            }
+        }
+    }
+    // The longest key first: `_mesh_group` before `_mesh`... (a name
+    // that is none of the listed ones).
+    let mut keys = OBSTACLE_KEYS;
+    keys.sort_by_key(|k| std::cmp::Reverse(k.len()));
+    keys.iter().find_map(|k| {
+        let n = rest.strip_suffix(k)?.strip_suffix('_')?;
+        (!n.is_empty() && !OBSTACLE_KEYS.contains(&n)).then(|| (n.to_string(), k.to_string()))
+    })
+}
+
+/// The names `-obstacles` lists (read without marking it used).
+fn listed_obstacles() -> Vec<String> {
+    options::peek("-obstacles")
+        .ok()
+        .flatten()
+        .map(|v| v.split(',').map(|n| n.trim().to_string()).collect())
+        .unwrap_or_default()
+}
+
+/// Why an option of the `-obstacles` family went unused: its obstacle is
+/// not listed, or its kind takes no such option.
+fn obstacle_message(name: &str) -> Option<String> {
+    let rest = name.strip_prefix("-obstacle_")?;
+    let listed = listed_obstacles();
+    let Some((obstacle, key)) = obstacle_of(name, &listed) else {
+        // A key mistyped (`-obstacle_a_raduis`), or a name -obstacles
+        // does not list (`-obstacle_b plane`).
+        let typo = listed.iter().find_map(|n| {
+            let typed = rest.strip_prefix(n.as_str())?.strip_prefix('_')?;
+            let key = OBSTACLE_KEYS
+                .iter()
+                .min_by_key(|k| osa_distance(typed, k))
+                .filter(|k| osa_distance(typed, k) <= 2)?;
+            Some(format!("-obstacle_{n}_{key}"))
+        });
+        return match typo {
+            Some(meant) => Some(format!(
+                "warning: option {name} was not used; did you mean {meant}?"
+            )),
+            None if !listed.is_empty() && !rest.contains('_') => Some(format!(
+                "warning: option {name} was not used: '{rest}' is no obstacle of this run (-obstacles names {})",
+                listed.join(",")
+            )),
+            None => None,
+        };
+    };
+    if !listed.contains(&obstacle) {
+        let among = if listed.is_empty() {
+            "no -obstacles is given (one obstacle: -obstacle, -obstacle_point, ...)".to_string()
+        } else {
+            format!("-obstacles names {}", listed.join(","))
+        };
+        return Some(format!(
+            "warning: option {name} was not used: '{obstacle}' is no obstacle of this run ({among})"
+        ));
+    }
+    let kind = options::peek(&format!("-obstacle_{obstacle}"))
+        .ok()
+        .flatten()
+        .unwrap_or_default();
+    Some(format!(
+        "warning: option {name} was not used: obstacle '{obstacle}' is a {} (-obstacle_{obstacle}), which takes no _{key} (-help lists each kind's options)",
+        kind.trim()
+    ))
+}
+
+/// Whether `name` is an option of an obstacle `-obstacles` lists (valid,
+/// though unread when the run failed before the obstacles were read).
+fn of_listed_obstacle(name: &str) -> bool {
+    if !name.starts_with("-obstacle_") {
+        return false;
+    }
+    let listed = listed_obstacles();
+    obstacle_of(name, &listed).is_some_and(|(o, _)| listed.contains(&o))
+}
+
 /// The warning line for an unused option.
 pub fn message(name: &str, used: &[String]) -> String {
     if declared(name) {
@@ -202,6 +308,9 @@ pub fn message(name: &str, used: &[String]) -> String {
         return format!(
             "warning: option {name} was not used: PETSc's linear solvers know it, but the one of this run did not read it (-help lists what it reads)"
         );
+    }
+    if let Some(m) = obstacle_message(name) {
+        return m;
     }
     // `--friction`, `--ksp_type`: a known name typed with two dashes.
     let one_dash = name.strip_prefix('-').filter(|n| {
@@ -320,7 +429,12 @@ impl Unused {
     pub fn undeclared(&mut self, root: bool) -> Result<(), Error> {
         let left = options::unused()?;
         for name in left {
-            if !declared(&name) && looks_ours(&name, &[]) && first_time(&name) && root {
+            if !declared(&name)
+                && looks_ours(&name, &[])
+                && !of_listed_obstacle(&name)
+                && first_time(&name)
+                && root
+            {
                 eprintln!("{}", message(&name, &[]));
             }
         }
@@ -349,6 +463,29 @@ impl Unused {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn options_of_named_obstacles() {
+        let listed = vec!["a".to_string(), "left_wall".to_string()];
+        let of = |n: &str| obstacle_of(n, &listed);
+        let pair = |o: &str, k: &str| Some((o.to_string(), k.to_string()));
+        assert_eq!(of("-obstacle_a"), pair("a", ""));
+        assert_eq!(of("-obstacle_a_radius"), pair("a", "radius"));
+        assert_eq!(
+            of("-obstacle_left_wall_mesh_group"),
+            pair("left_wall", "mesh_group")
+        );
+        assert_eq!(
+            of("-obstacle_b_search_distance"),
+            pair("b", "search_distance")
+        );
+        assert_eq!(of("-obstacle_b_mesh"), pair("b", "mesh"));
+        // The single obstacle's options and typos are none.
+        assert_eq!(of("-obstacle_radius"), None);
+        assert_eq!(of("-obstacle_mesh_group"), None);
+        assert_eq!(of("-obstacle_pont"), None);
+        assert_eq!(of("-obstacle_a_raduis"), None);
+    }
 
     #[test]
     fn suggestions_of_the_trial() {
