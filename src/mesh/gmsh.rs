@@ -71,6 +71,19 @@ pub fn periodic_skipped() -> bool {
     PERIODIC_SKIPPED.load(std::sync::atomic::Ordering::Relaxed)
 }
 
+/// What a file that is no mesh may be instead, for its error message: the
+/// mesh gzip-compressed, or Gmsh's geometry (`.geo`) to mesh with `mesh_it`
+/// (`gmsh -2 or -3`); else nothing.
+pub fn not_a_mesh_hint(bytes: &[u8], file: &str, mesh_it: &str) -> String {
+    if bytes.starts_with(&[0x1f, 0x8b]) {
+        ": it is gzip-compressed; gunzip it first".into()
+    } else if file.ends_with(".geo") {
+        format!(": a .geo file is Gmsh's geometry; mesh it first ({mesh_it} FILE.geo -o FILE.msh)")
+    } else {
+        String::new()
+    }
+}
+
 /// Parses the bytes of a Gmsh file; `file_name` is only used in error messages.
 pub fn parse_gmsh(bytes: &[u8], file_name: &str) -> Result<Mesh, MeshError> {
     Reader::new(bytes, file_name).parse()
@@ -589,13 +602,7 @@ impl<'a> Reader<'a> {
             _ => {
                 // What a new user may give instead: the geometry, or the
                 // mesh compressed.
-                let hint = if self.b.starts_with(&[0x1f, 0x8b]) {
-                    ": it is gzip-compressed; gunzip it first"
-                } else if self.file.ends_with(".geo") {
-                    ": a .geo file is Gmsh's geometry; mesh it first (gmsh -2 or -3 FILE.geo -o FILE.msh)"
-                } else {
-                    ""
-                };
+                let hint = not_a_mesh_hint(self.b, self.file, "gmsh -2 or -3");
                 return Err(self.err(
                     0,
                     format_args!("not a Gmsh mesh file (no $MeshFormat){hint}"),

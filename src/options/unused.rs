@@ -209,11 +209,8 @@ fn obstacle_of(name: &str, listed: &[String]) -> Option<(String, String)> {
             }
         }
     }
-    // The longest key first: `_mesh_group` before `_mesh`... (a name
-    // that is none of the listed ones).
-    let mut keys = OBSTACLE_KEYS;
-    keys.sort_by_key(|k| std::cmp::Reverse(k.len()));
-    keys.iter().find_map(|k| {
+    // A name that is none of the listed ones (no key ends another).
+    OBSTACLE_KEYS.iter().find_map(|k| {
         let n = rest.strip_suffix(k)?.strip_suffix('_')?;
         (!n.is_empty() && !OBSTACLE_KEYS.contains(&n)).then(|| (n.to_string(), k.to_string()))
     })
@@ -312,16 +309,17 @@ pub fn message(name: &str, used: &[String]) -> String {
     if let Some(m) = obstacle_message(name) {
         return m;
     }
+    let suggested = suggestion(name, used);
     // `--friction`, `--ksp_type`: a known name typed with two dashes.
-    let one_dash = name.strip_prefix('-').filter(|n| {
-        n.starts_with('-') && (declared(n) || suggestion(name, used).as_deref() == Some(*n))
-    });
+    let one_dash = name
+        .strip_prefix('-')
+        .filter(|n| n.starts_with('-') && (declared(n) || suggested.as_deref() == Some(*n)));
     if let Some(single) = one_dash {
         return format!(
             "warning: option {name} was not used: options take one dash; did you mean {single}?"
         );
     }
-    match suggestion(name, used) {
+    match suggested {
         Some(s) => format!("warning: option {name} was not used; did you mean {s}?"),
         None => format!(
             "warning: option {name} was not used (neither ubr-petsc nor PETSc knows it here; -help lists the options)"

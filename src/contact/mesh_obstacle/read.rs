@@ -40,13 +40,7 @@ pub(super) fn read(path: &Path, dim: usize, group: Option<&str>) -> Result<Surfa
         };
         return Ok(weld(facets, file));
     }
-    let hint = if bytes.starts_with(&[0x1f, 0x8b]) {
-        ": it is gzip-compressed; gunzip it first"
-    } else if file.ends_with(".geo") {
-        ": a .geo file is Gmsh's geometry; mesh it first (gmsh -1 or -2 FILE.geo -o FILE.msh)"
-    } else {
-        ""
-    };
+    let hint = crate::mesh::gmsh::not_a_mesh_hint(&bytes, &file, "gmsh -1 or -2");
     bad(format!(
         "option {OPTION}: {file}: not a Gmsh mesh ($MeshFormat) or an STL file (solid ...){hint}"
     ))
