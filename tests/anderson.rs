@@ -88,6 +88,51 @@ fn coulomb_pressures_match_plain() {
     println!("CF-FP: {its} Tresca iterations (plain {plain_its}), pressure gap {gap:.2e}");
 }
 
+/// The plain iteration at a tight target, where its residual ends at
+/// round-off: the accuracy test keeps the contraction it measured on the way
+/// down. The Tresca bound's frictionless solve (100x tighter) failed there:
+/// its estimate was infinite, the ratios of its round-off residual being 1
+/// or more (`-ubr_anderson 0 -ubr_lambda_rtol 1e-9`, exit 3); plain UBR-C
+/// at 1e-11 ended at round-off too. Both meet their targets against an
+/// Anderson run 100x tighter.
+#[test]
+fn the_plain_iteration_meets_tight_targets_at_round_off() {
+    let mesh = "meshes/hertz_1692.msh";
+    let scene = |file: &'static str, extra: &[&'static str]| -> Vec<&'static str> {
+        let mut v = vec!["-options_file", file, "-mesh", mesh];
+        v.extend_from_slice(extra);
+        v
+    };
+    let tresca = ["-tresca_bound", "frictionless"];
+    for (file, extra, tol) in [
+        ("options/hertz-tresca", &tresca[..], 1e-9),
+        ("options/hertz", &[][..], 1e-11),
+    ] {
+        let tight = format!("{:e}", tol * 1e-2);
+        let mut a = scene(file, extra);
+        a.extend_from_slice(&["-ubr_lambda_rtol", &tight]);
+        let (_, reference, ref_rows) = solve_rows("aa_roundoff_ref", 1, &a);
+        assert!(reference.converged);
+        let target = format!("{tol:e}");
+        for ranks in [1, 2] {
+            let mut a = scene(file, extra);
+            a.extend_from_slice(&["-ubr_anderson", "0", "-ubr_lambda_rtol", &target]);
+            let (run, r, rows) = solve_rows(&format!("aa_roundoff_{ranks}"), ranks, &a);
+            assert!(r.converged, "{file} -n {ranks}: {}", run.context());
+            assert_eq!(r.anderson_memory, 0.0);
+            let gap = max_stress_gap(&rows, &ref_rows);
+            assert!(
+                gap <= tol,
+                "{file} -n {ranks}: stresses {gap:.2e} from the reference"
+            );
+            println!(
+                "{file} -n {ranks}: {} iterations, error {gap:.2e}, target {tol:e}",
+                r.iterations
+            );
+        }
+    }
+}
+
 #[test]
 fn bad_memory_is_bad_input() {
     for bad in ["-1", "2.5", "ten", "1000"] {
