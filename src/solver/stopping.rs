@@ -209,6 +209,19 @@ impl Accuracy {
             .reduce(f64::max)
     }
 
+    /// Starts from a contraction measured by an earlier run of the same
+    /// map (CF-FP's previous Tresca solve, of nearly the same bound): it
+    /// holds until this run measures its own above round-off.
+    pub fn seeded(mut self, contraction: Option<f64>) -> Accuracy {
+        self.measured = contraction.filter(|k| k.is_finite());
+        self
+    }
+
+    /// The plain iteration's K last measured above round-off.
+    pub fn contraction(&self) -> Option<f64> {
+        self.measured
+    }
+
     /// `P K <= tol / 4` with statuses stable.
     pub fn satisfied(&self) -> bool {
         self.estimate <= 0.25 * self.tol && self.stable >= STABLE

@@ -155,7 +155,7 @@ impl<'a, C: Communicator> Run<'a, C> {
             c_prev: vec![0.0; nc * d],
             uc: vec![0.0; nc * d],
             uc_prev: vec![0.0; nc * d],
-            acc: Accuracy::new(ctl.lambda_rtol),
+            acc: Accuracy::new(ctl.lambda_rtol).seeded(ctl.contraction),
             progress: Progress::default(),
             deferred,
             u_prev,
@@ -496,7 +496,7 @@ impl<'a, C: Communicator> Run<'a, C> {
         );
         let out = &mut self.out;
         out.p = self.acc.residual;
-        out.k = self.acc.amplification;
+        (out.k, out.contraction) = (self.acc.amplification, self.acc.contraction());
         out.error_estimate = est;
         self.state.history.push([
             out.criterion,
