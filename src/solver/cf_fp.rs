@@ -119,8 +119,8 @@ fn fixed_point<C: Communicator>(
     let mut outer = (fp_anderson > 0).then(|| Anderson::new(fp_anderson, w.clone()));
     // Consecutive Tresca solves stopped at round-off, and the tolerance
     // below which the last of them says the Tresca solves cannot go.
-    // And the plain iteration's contraction the last solve measured.
-    let (mut roundoffs, mut floor, mut contraction) = (0, 0.0f64, None);
+    let mut roundoffs = 0;
+    let mut floor = 0.0f64;
     // Consecutive fixed-point iterations whose change of s is round-off.
     let mut flat = 0;
     for m in 0..fp_max_it {
@@ -135,10 +135,7 @@ fn fixed_point<C: Communicator>(
         // Only the last Tresca solve's whole displacement is wanted, and
         // which is last is known after it: made below, once.
         inner.defer_whole = true;
-        // For a solve started (warm) at round-off, as the bound barely moved.
-        inner.contraction = contraction;
         let run = ubr(world, problem, state, Some(&s), &inner, events)?;
-        contraction = run.contraction.or(contraction);
         if run.roundoff {
             // Eight times its estimate: a later solve at this floor passes
             // at twice it; never looser than the outer target.

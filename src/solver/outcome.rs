@@ -133,7 +133,6 @@ pub fn control(settings: &Settings) -> ubr::UbrControl {
         r_far: None,
         displacement: ubr::Whole::WithChange,
         defer_whole: false,
-        contraction: None,
     }
 }
 

@@ -97,6 +97,14 @@ pub struct UbrState {
     /// The start after the rigid approach ([`super::seat`]), used at every
     /// cold start instead of the paper's zero (None: the paper's).
     pub seat: Option<Seat>,
+    /// The plain iteration's contraction K the last run measured above
+    /// round-off ([`crate::solver::stopping::Accuracy::seeded`]), for a
+    /// run whose residuals are all at round-off, started warm at its
+    /// answer: CF-FP's Tresca solve at the fixed point, a load step that
+    /// changes nothing (one matrix and r: nearly the same map). Its
+    /// estimate was infinite, and such runs failed (exit 3). Kept by
+    /// [`UbrState::reset`].
+    pub contraction: Option<f64>,
 }
 
 impl UbrState {
@@ -114,6 +122,7 @@ impl UbrState {
             cold: true,
             stress_scale: 0.0,
             seat: None,
+            contraction: None,
         })
     }
 

@@ -99,11 +99,6 @@ pub struct UbrControl {
     /// the last alone gives the answer (each full solve cost as much as
     /// the rest of the solve on hertz_37473).
     pub defer_whole: bool,
-    /// The plain iteration's accuracy test: a K measured by an earlier run
-    /// of nearly the same map, used while this run's residuals are all at
-    /// round-off (a CF-FP Tresca solve started warm at the fixed point had
-    /// an infinite estimate, and two in a row ended the run).
-    pub contraction: Option<f64>,
 }
 
 /// The whole displacement at the end of a condensed run.
@@ -142,9 +137,6 @@ pub struct UbrOutcome {
     pub p: f64,
     pub k: f64,
     pub error_estimate: f64,
-    /// The plain iteration's K last measured above round-off (see
-    /// [`UbrControl::contraction`]).
-    pub contraction: Option<f64>,
     /// Global counts from the last projection.
     pub contact: usize,
     pub stick: usize,

@@ -126,7 +126,7 @@ impl<'a, C: Communicator> Run<'a, C> {
         let mut u_prev = vec![0.0; lumped_mass.len() * d];
         state.u.read(|u| u_prev.copy_from_slice(u))?;
         let cold = std::mem::replace(&mut state.cold, false);
-        let was_condensed = lin.is_condensed();
+        let (was_condensed, inexact, seed) = (lin.is_condensed(), lin.iterative, state.contraction);
         let no_friction = friction_bound.is_some_and(|b| {
             allreduce_max(world, b.iter().fold(0.0, |a: f64, &x| a.max(x))) == 0.0
         });
@@ -155,7 +155,7 @@ impl<'a, C: Communicator> Run<'a, C> {
             c_prev: vec![0.0; nc * d],
             uc: vec![0.0; nc * d],
             uc_prev: vec![0.0; nc * d],
-            acc: Accuracy::new(ctl.lambda_rtol).seeded(ctl.contraction),
+            acc: Accuracy::new(ctl.lambda_rtol).seeded(seed).inexact(inexact),
             progress: Progress::default(),
             deferred,
             u_prev,
@@ -496,7 +496,7 @@ impl<'a, C: Communicator> Run<'a, C> {
         );
         let out = &mut self.out;
         out.p = self.acc.residual;
-        (out.k, out.contraction) = (self.acc.amplification, self.acc.contraction());
+        (out.k, self.state.contraction) = (self.acc.amplification, self.acc.contraction());
         out.error_estimate = est;
         self.state.history.push([
             out.criterion,
