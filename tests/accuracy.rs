@@ -702,6 +702,33 @@ fn inexact_solves_do_not_stall_anderson() {
     }
 }
 
+/// The paper's plain iteration where it is slow: stamp2d_gravity_coulomb
+/// (friction alone holds the body sideways) contracts by about 0.9995 per
+/// iteration in CF-FP's second Tresca solve. It was called stalled after
+/// 500 iterations ("the residual stays flat"; its best was the warm start's
+/// first evaluation, before the new bound acted) and told to try
+/// -ubr_anderson 0, which it ran. Now it runs to -ubr_max_it, says so, and
+/// names the Anderson acceleration; the default converges.
+#[test]
+fn a_slow_plain_iteration_is_not_called_stalled() {
+    let name = "stamp2d_gravity_coulomb";
+    let plain = run(name, 1, &["-ubr_anderson", "0"]);
+    assert_eq!(plain.status, Some(3), "{}", plain.summary());
+    let why = plain
+        .stderr
+        .lines()
+        .find(|l| l.starts_with("not converged"))
+        .unwrap_or_default();
+    assert!(
+        why.contains("(-ubr_max_it)")
+            && why.contains("the default Anderson acceleration (-ubr_anderson 10)")
+            && !why.contains("stalled")
+            && !why.contains("try -ubr_anderson 0"),
+        "{why}"
+    );
+    assert!(run(name, 1, &[]).converged());
+}
+
 /// A tight request on a tilted normal: incline2d_coulomb's direction is
 /// typed to twelve digits (norm 1 - 2.5e-13). Used as given, it left a
 /// normal part of 1e-12 in every tangential displacement, a floor under the

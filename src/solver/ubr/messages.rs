@@ -34,6 +34,12 @@ pub(super) fn stalled(
             acc.estimate, ctl.lambda_rtol
         )
     };
+    // The other iteration than the one that stalled.
+    let other = if ctl.anderson > 0 {
+        "-ubr_anderson 0 (the paper's plain iteration)"
+    } else {
+        "the default Anderson acceleration (-ubr_anderson 10)"
+    };
     let cause = if friction && out.contact > 0 && out.stick == 0 {
         format!(
             "every one of the {} contact nodes slips: the bound s cannot hold the tangential load, and the body slides (with Coulomb friction: friction cannot hold the loads with the pressures this body develops; lower the tangential load or raise -friction_coefficient)",
@@ -42,7 +48,7 @@ pub(super) fn stalled(
     } else if let Some(r0) = ctl.r_far {
         r_far_words(r, r0)
     } else if out.contact == 0 {
-        "no node touches the obstacle at the last iterations although the loads push the body along a motion that only the contact holds: the iterates do not reach a contact state that holds them (no contact reached); check the obstacle's position and the loads, or try -ubr_anderson 0".to_string()
+        format!("no node touches the obstacle at the last iterations although the loads push the body along a motion that only the contact holds: the iterates do not reach a contact state that holds them (no contact reached); check the obstacle's position and the loads, or try {other}")
     } else if progress.changes >= progress.since / 10 {
         format!(
             "contact statuses changed {} times in those iterations: the contact set cycles between states, as when the contact zone is a few nodes or a point smaller than a cell; refine the mesh where the body touches, or loosen -ubr_lambda_rtol",
@@ -50,7 +56,7 @@ pub(super) fn stalled(
         )
     } else {
         format!(
-            "{} nodes touch the obstacle and the contact set has settled, yet the residual stays flat at r = {r:.3e}; try -ubr_anderson 0 or another r",
+            "{} nodes touch the obstacle and the contact set has settled, yet the residual stays flat at r = {r:.3e}; try {other} or another r",
             out.contact
         )
     };
@@ -105,7 +111,15 @@ pub(super) fn failure(
         );
     }
     format!(
-        "{name} stopped after {its} iterations (-ubr_max_it): the error estimate of lambda is {:.3e} (residual {:.3e} x amplification {:.3e}), the target -ubr_lambda_rtol {:.1e} / 4; r = {r:.6e}; try -ubr_max_it larger, a looser -ubr_lambda_rtol, or another r (-ubr_r auto chooses it)",
-        out.error_estimate, out.p, out.k, ctl.lambda_rtol
+        "{name} stopped after {its} iterations (-ubr_max_it): the error estimate of lambda is {:.3e} (residual {:.3e} x amplification {:.3e}), the target -ubr_lambda_rtol {:.1e} / 4; r = {r:.6e}; try -ubr_max_it larger, a looser -ubr_lambda_rtol, or another r (-ubr_r auto chooses it){}",
+        out.error_estimate,
+        out.p,
+        out.k,
+        ctl.lambda_rtol,
+        if ctl.anderson == 0 {
+            "; the default Anderson acceleration (-ubr_anderson 10) takes far fewer iterations"
+        } else {
+            ""
+        }
     )
 }

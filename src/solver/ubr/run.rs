@@ -156,7 +156,7 @@ impl<'a, C: Communicator> Run<'a, C> {
             uc: vec![0.0; nc * d],
             uc_prev: vec![0.0; nc * d],
             acc: Accuracy::new(ctl.lambda_rtol).seeded(seed).inexact(inexact),
-            progress: Progress::default(),
+            progress: Progress::new(cold),
             deferred,
             u_prev,
             drifting: 0,
