@@ -71,7 +71,7 @@ pub struct Progress {
     pub best: f64,
     pub since: usize,
     pub changes: usize,
-    /// A warm start's first evaluation, not counted (see [`Progress::warm`]).
+    /// A warm start's first evaluation, not counted (see [`Progress::new`]).
     skip: bool,
 }
 
