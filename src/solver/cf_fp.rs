@@ -136,7 +136,11 @@ fn fixed_point<C: Communicator>(
         // which is last is known after it: made below, once.
         inner.defer_whole = true;
         let run = ubr(world, problem, state, Some(&s), &inner, events)?;
-        if run.roundoff {
+        // At its floor: at round-off, or stalled at the outer target (a
+        // floor above 1e-12: stamp2d_gravity_coulomb at -ubr_r 1e6, 2e-12).
+        let at_floor =
+            run.roundoff || !run.converged && run.error_estimate <= 0.25 * ctl.lambda_rtol;
+        if at_floor {
             // Eight times its estimate: a later solve at this floor passes
             // at twice it; never looser than the outer target.
             floor = (8.0 * run.error_estimate).min(ctl.lambda_rtol);
@@ -149,11 +153,7 @@ fn fixed_point<C: Communicator>(
             *x = nu_f * l.abs();
         }
         out.fp_change = relative_change(world, &w, &next, &s);
-        flat = if out.fp_change <= FLAT_CHANGE {
-            flat + 1
-        } else {
-            0
-        };
+        flat = (flat + 1) * usize::from(out.fp_change <= FLAT_CHANGE);
         // Accuracy mode: the change of lambda between Tresca solutions.
         let mut estimate = f64::INFINITY;
         if !paper {
@@ -173,8 +173,8 @@ fn fixed_point<C: Communicator>(
         // -ubr_lambda_rtol 1e-10: Tresca solves flat at 5.8e-14 and
         // 1.4e-13, their estimates 2.2e-11 and 6.3e-12 above their target
         // of 2.5e-12, ten times tighter than the outer one).
-        roundoffs = if run.roundoff { roundoffs + 1 } else { 0 };
-        let stalled = !run.converged && (!run.roundoff || roundoffs >= 2);
+        roundoffs = if at_floor { roundoffs + 1 } else { 0 };
+        let stalled = !run.converged && (!at_floor || roundoffs >= 2);
         out.last = run;
         if stalled {
             out.failure = out.last.failure.clone().map(|f| {
@@ -191,10 +191,10 @@ fn fixed_point<C: Communicator>(
         } else {
             estimate <= 0.25 * ctl.lambda_rtol || exact
         };
-        // The last Tresca solve at round-off: its estimate within the
+        // The last Tresca solve at its floor: its estimate within the
         // outer target.
-        let last_ok = out.last.converged
-            || out.last.roundoff && out.last.error_estimate <= 0.25 * ctl.lambda_rtol;
+        let last_ok =
+            out.last.converged || at_floor && out.last.error_estimate <= 0.25 * ctl.lambda_rtol;
         if done && full_tolerance && last_ok {
             out.converged = true;
             if exact {
