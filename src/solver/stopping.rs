@@ -229,15 +229,19 @@ impl Accuracy {
         self.estimate
     }
 
-    /// The largest ratio `P_j / P_{j-1}` of the remembered residuals with
-    /// both above `floor`; None where there is none.
-    fn largest_ratio(&self, floor: f64) -> Option<f64> {
+    /// The ratios `P_j / P_{j-1}` of the remembered residuals with both
+    /// above `floor`.
+    fn ratios(&self, floor: f64) -> impl Iterator<Item = f64> + '_ {
         self.p
             .iter()
             .zip(self.p.iter().skip(1))
-            .filter(|&(&a, &b)| a > floor && b > floor)
+            .filter(move |&(&a, &b)| a > floor && b > floor)
             .map(|(&a, &b)| b / a)
-            .reduce(f64::max)
+    }
+
+    /// The largest of [`Accuracy::ratios`]; None where there is none.
+    fn largest_ratio(&self, floor: f64) -> Option<f64> {
+        self.ratios(floor).reduce(f64::max)
     }
 
     /// Starts from a contraction measured by an earlier run of nearly the
@@ -268,11 +272,8 @@ impl Accuracy {
     /// residuals above round-off; None with fewer than 3 of them.
     fn mean_ratio(&self) -> Option<f64> {
         let (n, sum) = self
-            .p
-            .iter()
-            .zip(self.p.iter().skip(1))
-            .filter(|&(&a, &b)| a > STALL_FLOOR && b > STALL_FLOOR)
-            .fold((0, 0.0), |(n, s), (&a, &b)| (n + 1, s + (b / a).ln()));
+            .ratios(STALL_FLOOR)
+            .fold((0, 0.0), |(n, s), q| (n + 1, s + q.ln()));
         (n >= 3).then(|| (sum / n as f64).exp())
     }
 
