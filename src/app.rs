@@ -482,6 +482,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         }
         let friction = s.friction != Friction::None;
         let restraint = wellposed::check(self.world, local, &dirichlet, &cs, friction, &pairs)?;
+        wellposed::check_frictionless_bound(&restraint, s)?;
         let mut warnings: Vec<String> = dropped.into_iter().collect();
         warnings.extend(checks::setup_warnings(
             self.world, local, s, &dirichlet, &cs,

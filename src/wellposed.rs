@@ -18,6 +18,7 @@ use crate::comm::{allreduce_count, allreduce_max_vec, allreduce_sum_vec, Layout}
 use crate::contact::ContactSet;
 use crate::error::Error;
 use crate::mesh::distribute::LocalMesh;
+use crate::options::{Friction, Settings, TrescaBound};
 use crate::petsc::{self, sys, Gather, Vector};
 use mpi::traits::*;
 use nalgebra::{DMatrix, SymmetricEigen};
@@ -296,8 +297,9 @@ pub struct Restraint {
     pub contact_held: Vec<Motion>,
     /// Some rigid motion is held by friction alone (neither Dirichlet
     /// conditions nor contact along n restrain it): a frictionless solve of
-    /// the scene has no solution.
-    pub friction_held: bool,
+    /// the scene has no solution. The words of the first such motion ("the
+    /// body is free to translate along x").
+    pub friction_held: Option<String>,
     /// Each contact pair's master body (usize::MAX when unknown).
     pub pair_master: Vec<usize>,
 }
@@ -393,7 +395,7 @@ pub fn check<C: Communicator>(
         }
     }
     let mut contact_held = Vec::new();
-    let mut friction_held = false;
+    let mut friction_held = None;
     for b in 0..nb {
         let (gd, (gc, gt, paired)) = (block(b, 0), with_pairs(b, &held));
         let candidates = g[b * per + 3 * k * k] as usize + paired;
@@ -411,7 +413,10 @@ pub fn check<C: Communicator>(
                 message
             }));
         }
-        friction_held |= friction && !null_space(&held_by_n, FREE_TOL * scale).is_empty();
+        let slides = null_space(&held_by_n, FREE_TOL * scale);
+        if friction && !slides.is_empty() && friction_held.is_none() {
+            friction_held = Some(free_motion(&bodies, b, &slides));
+        }
         for coef in null_space(&gd, FREE_TOL * scale) {
             contact_held.push(Motion { body: b, coef });
         }
@@ -443,10 +448,8 @@ fn null_space(m: &DMatrix<f64>, tol: f64) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// The message for the free motions `free` (orthonormal) of body `b`. The
-/// canonical motions (translations along the axes, rotations about the axes
-/// through the body's centre) that lie in the free space are named; what
-/// remains is described as it is.
+/// The message for the free motions `free` (orthonormal) of body `b`: the
+/// motions ([`free_motion`]) and what would hold them.
 fn free_message(
     bodies: &Bodies,
     b: usize,
@@ -455,6 +458,30 @@ fn free_message(
     friction: bool,
     gd: &DMatrix<f64>,
 ) -> String {
+    let motion = free_motion(bodies, b, free);
+    // Would friction hold what is free? Only where contact candidates exist
+    // and the motion is tangential; a motion that no Dirichlet condition and
+    // no candidate restrains needs a Dirichlet condition.
+    let held_by_dirichlet_somewhere = gd.trace() > 0.0;
+    let hint = if candidates == 0 {
+        if held_by_dirichlet_somewhere {
+            "nothing holds it (its Dirichlet conditions do not, and it has no contact candidate); add a Dirichlet condition"
+        } else {
+            "it has neither a Dirichlet condition nor a contact candidate; add a Dirichlet condition"
+        }
+    } else if friction {
+        "neither its Dirichlet conditions nor the contact can hold it; add a Dirichlet condition"
+    } else {
+        "frictionless contact cannot hold it; add a Dirichlet condition or friction"
+    };
+    format!("{motion}: {hint}")
+}
+
+/// Words for the rigid motions `free` (orthonormal) of body `b`: "the body
+/// is free to translate along x". The canonical motions (translations along
+/// the axes, rotations about the axes through the body's centre) that lie
+/// in the free space are named; what remains is described as it is.
+fn free_motion(bodies: &Bodies, b: usize, free: &[Vec<f64>]) -> String {
     let d = bodies.dim;
     let k = modes(d);
     let in_free = |e: &[f64]| -> bool {
@@ -507,20 +534,34 @@ fn free_message(
     } else {
         "the body".to_string()
     };
-    // Would friction hold what is free? Only where contact candidates exist
-    // and the motion is tangential; a motion that no Dirichlet condition and
-    // no candidate restrains needs a Dirichlet condition.
-    let held_by_dirichlet_somewhere = gd.trace() > 0.0;
-    let hint = if candidates == 0 {
-        if held_by_dirichlet_somewhere {
-            "nothing holds it (its Dirichlet conditions do not, and it has no contact candidate); add a Dirichlet condition"
-        } else {
-            "it has neither a Dirichlet condition nor a contact candidate; add a Dirichlet condition"
-        }
-    } else if friction {
-        "neither its Dirichlet conditions nor the contact can hold it; add a Dirichlet condition"
-    } else {
-        "frictionless contact cannot hold it; add a Dirichlet condition or friction"
+    format!("{body} is free to {what}")
+}
+
+/// A bound from a frictionless solve (`-tresca_bound frictionless`, the
+/// default of `-friction tresca`) where friction alone holds a body: that
+/// solve has no solution, so the scene is refused before the factorization
+/// (exit 2), the same on every rank. CF-FP's default start needs no such
+/// solve: it sticks first ([`Restraint::friction_held`]).
+pub fn check_frictionless_bound(restraint: &Restraint, settings: &Settings) -> Result<(), Error> {
+    let Some(motion) = &restraint.friction_held else {
+        return Ok(());
     };
-    format!("{body} is free to {what}: {hint}")
+    let (which, instead) = match (settings.friction, settings.tresca_bound) {
+        (Friction::Tresca, None) => (
+            "the default bound of -friction tresca (-tresca_bound frictionless)",
+            "give the bound (-tresca_bound VALUE) or use -friction coulomb",
+        ),
+        (Friction::Tresca, Some(TrescaBound::Frictionless)) => (
+            "-tresca_bound frictionless",
+            "give the bound (-tresca_bound VALUE) or use -friction coulomb",
+        ),
+        (Friction::Coulomb, Some(TrescaBound::Frictionless)) => (
+            "-tresca_bound frictionless (the starting bound of -friction coulomb)",
+            "leave -tresca_bound out (the first solve then sticks)",
+        ),
+        _ => return Ok(()),
+    };
+    Err(Error::IllPosed(format!(
+        "{which} is nu_f times the pressure of a frictionless solve, and that has no solution: without friction {motion}; {instead}, or add a Dirichlet condition that holds it"
+    )))
 }

@@ -174,6 +174,57 @@ fn friction_holds_a_body_under_a_tangential_load() {
     assert!((rep.contact_force - 800.0).abs() <= 1e-6 * 800.0);
 }
 
+/// The same body under Tresca friction with its default bound, nu_f times
+/// the pressure of a frictionless solve: that solve has no solution, and the
+/// scene is refused before the factorization, naming the bound and the
+/// motion (it ran 130 iterations and ended "moves without bound ... raise
+/// the friction" with exit 3, its summary a frictionless iterate); the same
+/// for Coulomb started from that bound. A given bound holds it.
+#[test]
+fn a_frictionless_bound_is_refused_where_friction_alone_holds() {
+    for (bound, words) in [
+        (&[][..], "the default bound of -friction tresca"),
+        (
+            &["-tresca_bound", "frictionless"][..],
+            "-tresca_bound frictionless is",
+        ),
+    ] {
+        for ranks in [1, 2] {
+            let mut extra = vec!["-friction", "tresca", "-friction_coefficient", "0.3"];
+            extra.extend_from_slice(bound);
+            expect_free(
+                "hertz free x, Tresca",
+                ranks,
+                &hertz_free_x(&extra),
+                &[
+                    words,
+                    "without friction the body is free to translate along x",
+                    "-tresca_bound VALUE",
+                ],
+            );
+        }
+    }
+    let coulomb = ["-friction", "coulomb", "-friction_coefficient", "0.3"];
+    let mut extra = coulomb.to_vec();
+    extra.extend_from_slice(&["-tresca_bound", "frictionless"]);
+    expect_free(
+        "hertz free x, Coulomb from a frictionless bound",
+        2,
+        &hertz_free_x(&extra),
+        &[
+            "starting bound of -friction coulomb",
+            "leave -tresca_bound out",
+        ],
+    );
+    let (run, rep, _) = solve_rows(
+        "hertz free x, Tresca bound 10",
+        2,
+        &hertz_free_x(&["-friction", "tresca", "-tresca_bound", "10"]),
+    );
+    assert!(rep.converged, "{}", run.stdout);
+    assert!((rep.contact_force - 800.0).abs() <= 1e-6 * 800.0);
+}
+
 /// Two disconnected parts, one clamped, the other resting on the obstacle
 /// under a traction: the free part is named by where it is.
 #[test]

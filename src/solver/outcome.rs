@@ -521,7 +521,7 @@ fn run<C: Communicator>(
     state: &mut UbrState,
     warm: Option<Warm>,
 ) -> Result<Solved, Error> {
-    let friction_held = restraint.friction_held;
+    let friction_held = restraint.friction_held.is_some();
     let u = &settings.ubr;
     let ctl = ubr::UbrControl {
         drift_limit: drift_limit(world, restraint, &problem.contact),
