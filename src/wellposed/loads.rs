@@ -333,19 +333,45 @@ fn tangent_rays(n: &[f64]) -> Vec<[f64; 3]> {
 }
 
 /// Non-negative least squares `min ||A x - b||, x >= 0` (Lawson and
-/// Hanson's active-set method), for A with few rows.
+/// Hanson's active-set method), for A with few rows. Solved on the problem
+/// scaled to unit columns and a unit right-hand side, so that its
+/// tolerances hold in any units (a micrometre model's columns are facet
+/// areas of 1e-12 and below, a stress's entries 1e9).
 fn nnls(a: &DMatrix<f64>, b: &nalgebra::DVector<f64>) -> nalgebra::DVector<f64> {
     let n = a.ncols();
     let mut x = nalgebra::DVector::<f64>::zeros(n);
+    let bn = b.norm();
+    let norms: Vec<f64> = a.column_iter().map(|c| c.norm()).collect();
+    let cols: Vec<usize> = (0..n)
+        .filter(|&j| norms[j] > 0.0 && norms[j].is_finite())
+        .collect();
+    if bn == 0.0 || !bn.is_finite() || cols.is_empty() {
+        return x;
+    }
+    let mut unit = a.select_columns(&cols);
+    for (p, &j) in cols.iter().enumerate() {
+        unit.column_mut(p).scale_mut(1.0 / norms[j]);
+    }
+    let y = nnls_unit(&unit, &(b / bn));
+    for (p, &j) in cols.iter().enumerate() {
+        x[j] = y[p] * bn / norms[j];
+    }
+    x
+}
+
+/// [`nnls`] on unit columns and a unit right-hand side.
+fn nnls_unit(a: &DMatrix<f64>, b: &nalgebra::DVector<f64>) -> nalgebra::DVector<f64> {
+    let n = a.ncols();
+    let mut x = nalgebra::DVector::<f64>::zeros(n);
     let mut passive = vec![false; n];
-    let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs())) * b.norm();
-    let tol = 1e-12 * scale.max(f64::MIN_POSITIVE);
+    let tol = 1e-12;
     let solve_passive = |passive: &[bool]| -> nalgebra::DVector<f64> {
         let idx: Vec<usize> = (0..n).filter(|&j| passive[j]).collect();
         let sub = a.select_columns(&idx);
-        let z = sub
-            .svd(true, true)
-            .solve(b, 1e-12)
+        let svd = sub.svd(true, true);
+        let top = svd.singular_values.max();
+        let z = svd
+            .solve(b, 1e-12 * top)
             .unwrap_or_else(|_| nalgebra::DVector::zeros(idx.len()));
         let mut s = nalgebra::DVector::zeros(n);
         for (p, &j) in idx.iter().enumerate() {
@@ -362,19 +388,26 @@ fn nnls(a: &DMatrix<f64>, b: &nalgebra::DVector<f64>) -> nalgebra::DVector<f64> 
             break;
         };
         passive[j] = true;
-        loop {
+        // Each pass leaves the passive set or drops one index from it.
+        for _inner in 0..=n {
             let s = solve_passive(&passive);
             if (0..n).filter(|&j| passive[j]).all(|j| s[j] > 0.0) {
                 x = s;
                 break;
             }
-            let mut alpha = f64::INFINITY;
+            // The step to the first passive x that reaches zero, and that
+            // index (which leaves the passive set whatever its round-off).
+            let (mut alpha, mut first) = (f64::INFINITY, j);
             for j in (0..n).filter(|&j| passive[j] && s[j] <= 0.0) {
-                alpha = alpha.min(x[j] / (x[j] - s[j]));
+                let t = x[j] / (x[j] - s[j]);
+                if t < alpha {
+                    (alpha, first) = (t, j);
+                }
             }
             x += (s - &x) * alpha;
+            let big = x.amax();
             for j in 0..n {
-                if passive[j] && x[j] <= 1e-14 * scale.max(1.0) {
+                if passive[j] && (j == first || x[j] <= 1e-14 * big) {
                     passive[j] = false;
                     x[j] = 0.0;
                 }
@@ -406,6 +439,36 @@ mod tests {
             assert!(x.iter().all(|&v| v >= 0.0));
             let res = (&a * &x - &bv).norm() / bv.norm();
             assert_eq!(res < 1e-9, inside, "b = {b:?}: residual {res}, x = {x}");
+        }
+    }
+
+    /// The same cones in any units: columns of facet areas in square
+    /// micrometres (1e-14) against forces of 1e-6 or 1e9, and the reverse.
+    /// (Its tolerances were absolute: on a micrometre model, the one row of
+    /// a body that only the contact holds along n, its columns all below
+    /// the SVD's 1e-12, made a NaN step, and the check never ended.)
+    #[test]
+    fn nnls_holds_in_any_units() {
+        for (ca, cb) in [(1e-14, 2e-6), (1e-14, 1e9), (1e9, 1e-14), (1.0, 1.0)] {
+            let a = DMatrix::from_row_slice(1, 4, &[ca, 2.0 * ca, 0.5 * ca, ca]);
+            for (b, inside) in [(1.0, true), (-1.0, false)] {
+                let bv = nalgebra::DVector::from_element(1, b * cb);
+                let x = nnls(&a, &bv);
+                let res = (&a * &x - &bv).norm() / bv.norm();
+                assert_eq!(res < 1e-9, inside, "{ca} {cb} b = {b}: residual {res}");
+            }
+            let a = DMatrix::from_row_slice(2, 3, &[ca, 1e3 * ca, ca, 0.0, 1e3 * ca, -ca]);
+            for (b, inside) in [
+                ([2.0, 1.0], true),
+                ([-1.0, 0.0], false),
+                ([1.0, 2.0], false),
+            ] {
+                let bv = nalgebra::DVector::from_column_slice(&b) * cb;
+                let x = nnls(&a, &bv);
+                assert!(x.iter().all(|&v| v >= 0.0 && v.is_finite()));
+                let res = (&a * &x - &bv).norm() / bv.norm();
+                assert_eq!(res < 1e-9, inside, "{ca} {cb} b = {b:?}: residual {res}");
+            }
         }
     }
 }
