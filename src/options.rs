@@ -770,6 +770,9 @@ impl Settings {
                 "option -contact_algorithm {algorithm}: this comparator is frictionless (-friction none)"
             ));
         }
+        if algorithm == Algorithm::SnesVi && contact.as_ref().is_some_and(|c| !c.pairs.is_empty()) {
+            return bad("option -contact_algorithm snesvi: SNES VI bounds one displacement component at each candidate, and -contact_pair (two elastic bodies) couples the slave to master nodes; solve it with -contact_algorithm ubr or ssn");
+        }
         let history = load_history(
             &dirichlet,
             &traction,

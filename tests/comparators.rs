@@ -1,6 +1,7 @@
 //! The comparators of the paper's section 7 and of PETSc: SSN-C (semi-smooth
 //! Newton, refactorized every iteration) and SNES VI (vinewtonrsls).
 mod common;
+use common::report as report_of;
 use common::*;
 
 const MESHES: [&str; 5] = [
@@ -120,6 +121,64 @@ fn ssn_without_initial_contact_says_why() {
     );
     assert_eq!(run.status, Some(3), "{}", run.stderr);
     assert!(run.stderr.contains("-ssn_initial_shift"), "{}", run.stderr);
+}
+
+/// SNES VI stopped by its cap: the summary and the report give the Newton
+/// iterations it ran and its last iterate (they said 0 iterations and the
+/// zero state), exit 3 with PETSc's reason; SNES VI refuses two elastic
+/// bodies by name (it blamed the contact normal).
+#[test]
+fn snesvi_stopped_says_how_far_it_went() {
+    let dir = scratch("snesvi_stopped");
+    let report = dir.join("r.json");
+    let report = report.to_str().unwrap();
+    let run = mpirun(
+        2,
+        &hertz(
+            "meshes/hertz_442.msh",
+            &[
+                "-contact_algorithm",
+                "snesvi",
+                "-snes_max_it",
+                "2",
+                "-report",
+                report,
+            ],
+        ),
+    );
+    assert_eq!(run.status, Some(3), "{}", run.stderr);
+    assert!(
+        run.stderr.contains(
+            "not converged: SNES VI did not converge after 2 Newton iterations: DIVERGED_MAX_IT"
+        ),
+        "{}",
+        run.stderr
+    );
+    assert!(
+        run.stdout
+            .contains("2 Newton iterations of PETSc's vinewtonrsls"),
+        "{}",
+        run.stdout
+    );
+    let rep = report_of(std::path::Path::new(report));
+    assert_eq!(rep.iterations, 2.0);
+    assert!(!rep.converged);
+    let pair = mpirun(
+        1,
+        &[
+            "-options_file",
+            "options/hertz",
+            "-contact_algorithm",
+            "snesvi",
+            "-contact_pair",
+            "contact,top",
+        ],
+    );
+    pair.refused(
+        "snesvi with a contact pair",
+        2,
+        &["-contact_algorithm snesvi", "-contact_pair"],
+    );
 }
 
 /// The same agreement in 3D, on the paper's block (held by its top face, so

@@ -354,8 +354,10 @@ impl Snes {
         Ok(s)
     }
 
-    /// Solves from the initial guess in `x`; returns (Newton iterations, linear iterations).
-    pub fn solve(&self, x: &Vector) -> Result<(usize, usize), Error> {
+    /// Solves from the initial guess in `x`; returns (Newton iterations,
+    /// linear iterations, why it did not converge: None where it did). The
+    /// last iterate stays in `x` either way.
+    pub fn solve(&self, x: &Vector) -> Result<(usize, usize, Option<String>), Error> {
         let mut its: sys::PetscInt = 0;
         let mut lits: sys::PetscInt = 0;
         let mut reason: sys::SNESConvergedReason = 0;
@@ -379,10 +381,9 @@ impl Snes {
                 // SAFETY: one of PETSc's static C strings.
                 unsafe { string_from(name) }
             };
-            return Err(Error::NotConverged(format!(
-                "SNES VI did not converge after {its} Newton iterations: {name}"
-            )));
+            let why = format!("SNES VI did not converge after {its} Newton iterations: {name}");
+            return Ok((its as usize, lits as usize, Some(why)));
         }
-        Ok((its as usize, lits as usize))
+        Ok((its as usize, lits as usize, None))
     }
 }

@@ -354,6 +354,7 @@ fn comparator<C: Communicator>(
     };
     solved.iterations = run.iterations;
     solved.converged = run.converged;
+    solved.failure = run.failure.clone();
     solved.last = run;
     Ok((state, solved))
 }

@@ -81,7 +81,7 @@ pub fn snes_vi<C: Communicator>(
     })???;
     let matrix = without_zero_couplings(&problem.lin.matrix, d)?;
     let snes = Snes::new_vi(&matrix, &problem.lin.rhs0, &lower, &upper)?;
-    let (its, lits) = snes.solve(&state.u)?;
+    let (its, lits, failure) = snes.solve(&state.u)?;
     state.inner_iterations.push(lits);
     // The reaction: K u - f = -B^T W lambda.
     let f = problem.lin.rhs0.duplicate()?;
@@ -113,7 +113,8 @@ pub fn snes_vi<C: Communicator>(
     let [contact] = allreduce_sum(world, [contact]);
     Ok(UbrOutcome {
         iterations: its,
-        converged: true,
+        converged: failure.is_none(),
+        failure,
         contact: contact as usize,
         ..Default::default()
     })
