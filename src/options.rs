@@ -729,6 +729,24 @@ fn load_history(
     Ok(history)
 }
 
+/// What the comparators cannot solve: friction (both), two elastic bodies
+/// (SNES VI, a bound on one displacement component per candidate).
+fn comparator_limits(
+    algorithm: Algorithm,
+    friction: Friction,
+    contact: Option<&ContactSettings>,
+) -> Result<(), Error> {
+    if algorithm != Algorithm::Ubr && friction != Friction::None {
+        return bad(format!(
+            "option -contact_algorithm {algorithm}: this comparator is frictionless (-friction none)"
+        ));
+    }
+    if algorithm == Algorithm::SnesVi && contact.is_some_and(|c| !c.pairs.is_empty()) {
+        return bad("option -contact_algorithm snesvi: SNES VI bounds one displacement component at each candidate, and -contact_pair (two elastic bodies) couples the slave to master nodes; solve it with -contact_algorithm ubr or ssn");
+    }
+    Ok(())
+}
+
 impl Settings {
     /// Reads every option. Runs identically on every rank, so its errors are collective.
     pub fn from_options() -> Result<Settings, Error> {
@@ -765,14 +783,7 @@ impl Settings {
         let ssn_r = positive(SSN_R.name, SSN_R.real()?.unwrap_or(1e3 * e_max))?;
         let ssn_initial_shift = SSN_INITIAL_SHIFT.vector()?.unwrap_or_default();
         let ssn_max_it = SSN_MAX_IT.get()?;
-        if algorithm != Algorithm::Ubr && friction != Friction::None {
-            return bad(format!(
-                "option -contact_algorithm {algorithm}: this comparator is frictionless (-friction none)"
-            ));
-        }
-        if algorithm == Algorithm::SnesVi && contact.as_ref().is_some_and(|c| !c.pairs.is_empty()) {
-            return bad("option -contact_algorithm snesvi: SNES VI bounds one displacement component at each candidate, and -contact_pair (two elastic bodies) couples the slave to master nodes; solve it with -contact_algorithm ubr or ssn");
-        }
+        comparator_limits(algorithm, friction, contact.as_ref())?;
         let history = load_history(
             &dirichlet,
             &traction,
