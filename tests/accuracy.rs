@@ -744,6 +744,31 @@ fn a_slow_plain_iteration_is_not_called_stalled() {
     }
 }
 
+/// A load history of a body that friction alone holds sideways: each step
+/// starts CF-FP sticking, as the first does. From the previous step's
+/// bound, which need not hold the larger load (a Tresca problem without
+/// solution), step 2 of stamp2d_gravity_coulomb on CG + GAMG slid away
+/// (exit 3 on 1 rank, converged on 3). The quasi-static law makes the
+/// answer depend on the path (one step: 9 stick and 7 slip nodes; three
+/// steps: 12 and 4; two: 14 and 2), so the runs are compared with the
+/// same history solved tightly on one rank, within the default target.
+#[test]
+fn friction_held_history_steps_start_sticking() {
+    let name = "stamp2d_gravity_coulomb";
+    let tight = run(name, 1, &["-load_steps", "3", "-ubr_lambda_rtol", "1e-9"]);
+    assert!(tight.converged(), "{}", tight.summary());
+    let gamg = ["-load_steps", "3", "-ksp_type", "cg", "-pc_type", "gamg"];
+    for (n, extra) in [(1, &gamg[..]), (2, &gamg[..]), (2, &gamg[..2])] {
+        let s = run(name, n, extra);
+        assert!(s.converged(), "-n {n} {extra:?}: {}", s.summary());
+        let (en, et) = errors(&s.rows, &tight.rows);
+        assert!(
+            en <= 1e-3 && et <= 1e-3,
+            "-n {n} {extra:?}: err_n {en:.2e}, err_t {et:.2e}"
+        );
+    }
+}
+
 /// A tight request on a tilted normal: incline2d_coulomb's direction is
 /// typed to twelve digits (norm 1 - 2.5e-13). Used as given, it left a
 /// normal part of 1e-12 in every tangential displacement, a floor under the

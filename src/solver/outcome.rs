@@ -595,9 +595,13 @@ fn run<C: Communicator>(
             // s^0 = 0 (the paper's frictionless first solve), unless
             // friction alone holds the body: that solve has no solution
             // then, and the first Tresca solve sticks (s^0 = infinity).
+            // A later load step starts from the previous step's bound,
+            // unless friction alone holds the body: that bound may not
+            // hold the larger load (a Tresca problem without solution,
+            // the body slides), so it sticks first as the first step did.
             let stick = if friction_held { f64::INFINITY } else { 0.0 };
             let s0 = explicit
-                .or_else(|| s_prev.map(<[f64]>::to_vec))
+                .or_else(|| s_prev.filter(|_| !friction_held).map(<[f64]>::to_vec))
                 .unwrap_or_else(|| vec![stick; nc]);
             let fp = cf_fp::cf_fp(
                 world,
