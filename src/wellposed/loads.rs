@@ -404,6 +404,10 @@ fn nnls_unit(a: &DMatrix<f64>, b: &nalgebra::DVector<f64>) -> nalgebra::DVector<
                     (alpha, first) = (t, j);
                 }
             }
+            // (A new index whose solution is not positive either: no step.)
+            if !alpha.is_finite() {
+                alpha = 0.0;
+            }
             x += (s - &x) * alpha;
             let big = x.amax();
             for j in 0..n {
