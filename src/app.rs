@@ -482,7 +482,6 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         }
         let friction = s.friction != Friction::None;
         let restraint = wellposed::check(self.world, local, &dirichlet, &cs, friction, &pairs)?;
-        wellposed::check_frictionless_bound(&restraint, s)?;
         let mut warnings: Vec<String> = dropped.into_iter().collect();
         warnings.extend(checks::setup_warnings(
             self.world, local, s, &dirichlet, &cs,
@@ -545,24 +544,44 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         let assembled = Problem::assemble(world, local, s, cs, dirichlet, terms, r0, &self.stages)?;
         // Can the contact (frictionless, or within Coulomb's cone) balance
         // the loads on the motions no Dirichlet condition holds?
-        let coulomb = match s.friction {
-            Friction::None => Some(None),
-            Friction::Coulomb => Some(Some(s.friction_coefficient)),
-            Friction::Tresca => None,
+        // The checks: the friction law's (frictionless, or Coulomb's cone;
+        // none for a Tresca bound), and where a frictionless solve makes
+        // the Tresca bound of a body only friction holds, that solve's.
+        let bound = wellposed::frictionless_bound_refusal(restraint, s);
+        let mut checks = match s.friction {
+            Friction::None => vec![(None, false)],
+            Friction::Coulomb => vec![(Some(s.friction_coefficient), false)],
+            Friction::Tresca => vec![],
         };
-        if let Some(coulomb) = coulomb {
+        if bound.is_some() {
+            checks.push((None, true));
+        }
+        for (coulomb, for_bound) in checks {
             let cs = &assembled.contact;
             // A history: the loads its steps apply (not the whole load,
             // which it may never apply).
-            match (&s.history, assembled.load_parts()) {
+            let held = match (&s.history, assembled.load_parts()) {
                 (Some(h), Some((parts, rest))) => {
                     let steps = history::steps_to_check(h, rest);
-                    wellposed::check_steps(world, local, restraint, cs, &parts, &steps, coulomb)?;
+                    wellposed::check_steps(world, local, restraint, cs, &parts, &steps, coulomb)
                 }
                 _ => {
                     let load = assembled.load.read(|f| f.to_vec())?;
-                    wellposed::check_loads(world, local, restraint, cs, &load, coulomb)?;
+                    wellposed::check_loads(world, local, restraint, cs, &load, coulomb)
                 }
+            };
+            match (held, &bound) {
+                (Err(Error::IllPosed(why)), Some(refusal)) if for_bound => {
+                    // A history names the step.
+                    let step = why
+                        .split_once(": ")
+                        .filter(|_| why.starts_with("load step"));
+                    return Err(Error::IllPosed(match step {
+                        Some((label, _)) => format!("{label}: {refusal}"),
+                        None => refusal.clone(),
+                    }));
+                }
+                (held, _) => held?,
             }
         }
         if assembled.matrix_mallocs != 0.0 {

@@ -538,14 +538,17 @@ fn free_motion(bodies: &Bodies, b: usize, free: &[Vec<f64>]) -> String {
 }
 
 /// A bound from a frictionless solve (`-tresca_bound frictionless`, the
-/// default of `-friction tresca`) where friction alone holds a body: that
-/// solve has no solution, so the scene is refused before the factorization
-/// (exit 2), the same on every rank. CF-FP's default start needs no such
-/// solve: it sticks first ([`Restraint::friction_held`]).
-pub fn check_frictionless_bound(restraint: &Restraint, settings: &Settings) -> Result<(), Error> {
-    let Some(motion) = &restraint.friction_held else {
-        return Ok(());
-    };
+/// default of `-friction tresca`; CF-FP's start where given) where friction
+/// alone holds a body: that solve has a solution only where frictionless
+/// contact holds the loads, i.e. where they do no work along the motions
+/// only friction holds (a body free along x, pressed straight down, has
+/// one: the x motion is then arbitrary). The message refusing such a scene
+/// where the loads do work along them ([`crate::wellposed::check_loads`]
+/// without friction decides); None where no frictionless solve is made or
+/// every motion is held without friction. CF-FP's default start needs no
+/// such solve: it sticks first ([`Restraint::friction_held`]).
+pub fn frictionless_bound_refusal(restraint: &Restraint, settings: &Settings) -> Option<String> {
+    let motion = restraint.friction_held.as_ref()?;
     let (which, instead) = match (settings.friction, settings.tresca_bound) {
         (Friction::Tresca, None) => (
             "the default bound of -friction tresca (-tresca_bound frictionless)",
@@ -559,9 +562,9 @@ pub fn check_frictionless_bound(restraint: &Restraint, settings: &Settings) -> R
             "-tresca_bound frictionless (the starting bound of -friction coulomb)",
             "leave -tresca_bound out (the first solve then sticks)",
         ),
-        _ => return Ok(()),
+        _ => return None,
     };
-    Err(Error::IllPosed(format!(
-        "{which} is nu_f times the pressure of a frictionless solve, and that has no solution: without friction {motion}; {instead}, or add a Dirichlet condition that holds it"
-    )))
+    Some(format!(
+        "{which} is nu_f times the pressure of a frictionless solve, and that has no solution: without friction {motion}, and the loads move it so; {instead}, or add a Dirichlet condition that holds it"
+    ))
 }

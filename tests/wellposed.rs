@@ -175,13 +175,22 @@ fn friction_holds_a_body_under_a_tangential_load() {
 }
 
 /// The same body under Tresca friction with its default bound, nu_f times
-/// the pressure of a frictionless solve: that solve has no solution, and the
-/// scene is refused before the factorization, naming the bound and the
-/// motion (it ran 130 iterations and ended "moves without bound ... raise
-/// the friction" with exit 3, its summary a frictionless iterate); the same
-/// for Coulomb started from that bound. A given bound holds it.
+/// the pressure of a frictionless solve, and a tangential load: that solve
+/// has no solution, and the scene is refused before the factorization,
+/// naming the bound and the motion (it ran 130 iterations and ended "moves
+/// without bound ... raise the friction" with exit 3); the same for
+/// Coulomb started from that bound, and for a history, naming the step.
+/// Pressed straight down, the frictionless solve has an answer (its x
+/// position arbitrary), and the run converges; so does a given bound.
 #[test]
 fn a_frictionless_bound_is_refused_where_friction_alone_holds() {
+    let sideways = |extra: &[&'static str]| -> Vec<&'static str> {
+        hertz_free_x(extra)
+            .into_iter()
+            .map(|a| if a == "0,-100" { "10,-100" } else { a })
+            .collect()
+    };
+    let tresca = ["-friction", "tresca", "-friction_coefficient", "0.3"];
     for (bound, words) in [
         (&[][..], "the default bound of -friction tresca"),
         (
@@ -190,39 +199,51 @@ fn a_frictionless_bound_is_refused_where_friction_alone_holds() {
         ),
     ] {
         for ranks in [1, 2] {
-            let mut extra = vec!["-friction", "tresca", "-friction_coefficient", "0.3"];
+            let mut extra = tresca.to_vec();
             extra.extend_from_slice(bound);
             expect_free(
-                "hertz free x, Tresca",
+                "hertz free x, Tresca, pushed sideways",
                 ranks,
-                &hertz_free_x(&extra),
+                &sideways(&extra),
                 &[
                     words,
-                    "without friction the body is free to translate along x",
+                    "without friction the body is free to translate along x, and the loads move it so",
                     "-tresca_bound VALUE",
                 ],
             );
         }
     }
+    let mut extra = tresca.to_vec();
+    extra.extend_from_slice(&["-load_steps", "2"]);
+    expect_free(
+        "hertz free x, Tresca history",
+        2,
+        &sideways(&extra),
+        &["load step 1/2", "the default bound of -friction tresca"],
+    );
     let coulomb = ["-friction", "coulomb", "-friction_coefficient", "0.3"];
     let mut extra = coulomb.to_vec();
     extra.extend_from_slice(&["-tresca_bound", "frictionless"]);
     expect_free(
         "hertz free x, Coulomb from a frictionless bound",
         2,
-        &hertz_free_x(&extra),
+        &sideways(&extra),
         &[
             "starting bound of -friction coulomb",
             "leave -tresca_bound out",
         ],
     );
-    let (run, rep, _) = solve_rows(
-        "hertz free x, Tresca bound 10",
-        2,
-        &hertz_free_x(&["-friction", "tresca", "-tresca_bound", "10"]),
-    );
-    assert!(rep.converged, "{}", run.stdout);
-    assert!((rep.contact_force - 800.0).abs() <= 1e-6 * 800.0);
+    for (name, args) in [
+        ("pressed down, default bound", hertz_free_x(&tresca)),
+        (
+            "pushed sideways, bound 10",
+            sideways(&["-friction", "tresca", "-tresca_bound", "10"]),
+        ),
+    ] {
+        let (run, rep, _) = solve_rows(name, 2, &args);
+        assert!(rep.converged, "{name}: {}", run.stdout);
+        assert!((rep.contact_force - 800.0).abs() <= 1e-6 * 800.0);
+    }
 }
 
 /// Two disconnected parts, one clamped, the other resting on the obstacle
