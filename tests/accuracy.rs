@@ -769,6 +769,35 @@ fn friction_held_history_steps_start_sticking() {
     }
 }
 
+/// A -ubr_r far from the trial r0 is named before a body "not held": a
+/// load step of tube2d_tresca at -ubr_r 1e6 (3.7e3 times r0) stalled with
+/// a tensile contact stress of 11%, and was told to check its Dirichlet
+/// conditions, the iteration's own message (naming r) dropped.
+#[test]
+fn a_far_r_is_named_in_a_history() {
+    let extra = [
+        "-load_steps",
+        "2",
+        "-ubr_r",
+        "1e6",
+        "-ubr_lambda_rtol",
+        "1e-6",
+    ];
+    let s = run("tube2d_tresca", 1, &extra);
+    assert_eq!(s.status, Some(3), "{}", s.summary());
+    let why = s
+        .stderr
+        .lines()
+        .find(|l| l.starts_with("not converged"))
+        .unwrap_or_default();
+    assert!(
+        why.contains("load step 1/2")
+            && why.contains("times the trial r0")
+            && !why.contains("not held"),
+        "{why}"
+    );
+}
+
 /// A tight request on a tilted normal: incline2d_coulomb's direction is
 /// typed to twelve digits (norm 1 - 2.5e-13). Used as given, it left a
 /// normal part of 1e-12 in every tangential displacement, a floor under the

@@ -84,6 +84,13 @@ impl Solved {
 
     /// Why the run did not converge, for the message of exit status 3.
     pub fn failure(&self) -> String {
+        // A -ubr_r far from the trial r0 is the likelier cause than a body
+        // that is not held, and the iteration's message names it (a
+        // history's step of tube2d_tresca at -ubr_r 1e6, 3.7e3 times r0,
+        // was told to check its Dirichlet conditions).
+        if let Some(f) = self.failure.as_ref().filter(|f| ubr::names_far_r(f)) {
+            return f.clone();
+        }
         if self.last.tension > 0.1 {
             return format!(
                 "{} stopped after {} iterations (relative change {:.3e}, constraint residual {:.3e}): the body is not held: the contact surface would have to pull (tensile contact stress {:.0}% of the largest), so a rigid-body motion is free and the body drifts; check the Dirichlet conditions (-dirichlet_NAME), the loads and the obstacle",

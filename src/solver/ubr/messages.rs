@@ -11,6 +11,12 @@ pub(super) fn r_far_words(r: f64, r0: f64) -> String {
     )
 }
 
+/// Whether a failure's message names an r far from the trial r0
+/// ([`r_far_words`]).
+pub fn names_far_r(message: &str) -> bool {
+    message.contains("(-ubr_r) is") && message.contains("times the trial r0")
+}
+
 /// The message of a run stopped because it made no progress: what it
 /// stalled at, and the likely cause.
 pub(super) fn stalled(

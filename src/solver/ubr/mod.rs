@@ -32,6 +32,7 @@
 
 mod measures;
 mod messages;
+pub use messages::names_far_r;
 mod run;
 
 use super::mass_norms;
