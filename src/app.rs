@@ -558,30 +558,21 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         }
         for (coulomb, for_bound) in checks {
             let cs = &assembled.contact;
+            // A failure of the bound's check is named as the bound's.
+            let refusal = bound.as_deref().filter(|_| for_bound);
             // A history: the loads its steps apply (not the whole load,
             // which it may never apply).
-            let held = match (&s.history, assembled.load_parts()) {
+            match (&s.history, assembled.load_parts()) {
                 (Some(h), Some((parts, rest))) => {
                     let steps = history::steps_to_check(h, rest);
-                    wellposed::check_steps(world, local, restraint, cs, &parts, &steps, coulomb)
+                    wellposed::check_steps(
+                        world, local, restraint, cs, &parts, &steps, coulomb, refusal,
+                    )?;
                 }
                 _ => {
                     let load = assembled.load.read(|f| f.to_vec())?;
-                    wellposed::check_loads(world, local, restraint, cs, &load, coulomb)
+                    wellposed::check_loads(world, local, restraint, cs, &load, coulomb, refusal)?;
                 }
-            };
-            match (held, &bound) {
-                (Err(Error::IllPosed(why)), Some(refusal)) if for_bound => {
-                    // A history names the step.
-                    let step = why
-                        .split_once(": ")
-                        .filter(|_| why.starts_with("load step"));
-                    return Err(Error::IllPosed(match step {
-                        Some((label, _)) => format!("{label}: {refusal}"),
-                        None => refusal.clone(),
-                    }));
-                }
-                (held, _) => held?,
             }
         }
         if assembled.matrix_mallocs != 0.0 {

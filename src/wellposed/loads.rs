@@ -36,6 +36,9 @@ const CONE_RAYS: usize = 16;
 /// ill-posed scene named now (exit 2) rather than met as a drift of
 /// thousands of iterations. With `coulomb` None the friction is taken as
 /// absent (frictionless contact; a Tresca bound is not checked here).
+/// `refusal`: the message of a failure in place of the check's own (the
+/// frictionless solve behind a Tresca bound,
+/// [`crate::wellposed::frictionless_bound_refusal`]).
 pub fn check_loads<C: Communicator>(
     world: &C,
     mesh: &LocalMesh,
@@ -43,12 +46,22 @@ pub fn check_loads<C: Communicator>(
     cs: &ContactSet,
     load: &[f64],
     coulomb: Option<f64>,
+    refusal: Option<&str>,
 ) -> Result<(), Error> {
     let whole = [LoadStep {
         label: None,
         coefs: vec![1.0],
     }];
-    check_steps(world, mesh, restraint, cs, &[load], &whole, coulomb)
+    check_steps(
+        world,
+        mesh,
+        restraint,
+        cs,
+        &[load],
+        &whole,
+        coulomb,
+        refusal,
+    )
 }
 
 /// The most distinct load directions of a history [`check_steps`] judges
@@ -68,6 +81,7 @@ pub struct LoadStep {
 /// history applies its steps' loads, not the whole load at once (which
 /// may never be applied: a table of negative factors of a pulling load).
 /// The loads' work on the motions and the contact's columns are made once.
+#[allow(clippy::too_many_arguments)]
 pub fn check_steps<C: Communicator>(
     world: &C,
     mesh: &LocalMesh,
@@ -76,6 +90,7 @@ pub fn check_steps<C: Communicator>(
     parts: &[&[f64]],
     steps: &[LoadStep],
     coulomb: Option<f64>,
+    refusal: Option<&str>,
 ) -> Result<(), Error> {
     let modes = &restraint.contact_held;
     let k = modes.len();
@@ -116,13 +131,18 @@ pub fn check_steps<C: Communicator>(
     }
     let step = &steps[verdict[0] as usize - 1];
     let b = combine(&work, k + 3, &step.coefs);
-    let why = ill_posed(
-        restraint,
-        &b[k..],
-        cs.common_normal(),
-        d,
-        coulomb,
-        verdict[1],
+    let why = refusal.map_or_else(
+        || {
+            ill_posed(
+                restraint,
+                &b[k..],
+                cs.common_normal(),
+                d,
+                coulomb,
+                verdict[1],
+            )
+        },
+        str::to_string,
     );
     Err(Error::IllPosed(match &step.label {
         Some(label) => format!("{label}: {why}"),
