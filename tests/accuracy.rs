@@ -203,6 +203,14 @@ impl Solution {
         self.report["friction"].as_str().unwrap_or("none") != "none"
     }
 
+    /// The line of stderr that says why the run did not converge ("" if none).
+    fn failure_line(&self) -> &str {
+        self.stderr
+            .lines()
+            .find(|l| l.starts_with("not converged"))
+            .unwrap_or_default()
+    }
+
     /// What the report says about the solve, for messages.
     fn summary(&self) -> String {
         let key = |k: &str| match self.report.get(k) {
@@ -714,11 +722,7 @@ fn a_slow_plain_iteration_is_not_called_stalled() {
     let name = "stamp2d_gravity_coulomb";
     let plain = run(name, 1, &["-ubr_anderson", "0"]);
     assert_eq!(plain.status, Some(3), "{}", plain.summary());
-    let why = plain
-        .stderr
-        .lines()
-        .find(|l| l.starts_with("not converged"))
-        .unwrap_or_default();
+    let why = plain.failure_line();
     assert!(
         why.contains("(-ubr_max_it)")
             && why.contains("the default Anderson acceleration (-ubr_anderson 10)")
@@ -785,11 +789,7 @@ fn a_far_r_is_named_in_a_history() {
     ];
     let s = run("tube2d_tresca", 1, &extra);
     assert_eq!(s.status, Some(3), "{}", s.summary());
-    let why = s
-        .stderr
-        .lines()
-        .find(|l| l.starts_with("not converged"))
-        .unwrap_or_default();
+    let why = s.failure_line();
     assert!(
         why.contains("load step 1/2")
             && why.contains("times the trial r0")
