@@ -415,3 +415,59 @@ fn cf_fp_outer_estimate_at_the_noise_of_inexact_solves() {
         assert!(gap <= 1e-9, "{ranks} ranks: error {gap:.2e}");
     }
 }
+
+/// The Hertz quarter without its symmetry condition, held by the contact
+/// alone and pushed sideways by a tenth and a quarter of its normal load,
+/// Coulomb 0.3: the quarter rolls until its contact zone sits under the
+/// load (19-20 nodes from x = 3.7, one sticking). Both ended with exit 3 at
+/// the automatic r: at a tenth, Anderson's iterates in CF-FP's third
+/// Tresca solve moved without bound while the plain iteration converges
+/// (now the run goes on plain from its best point); at a quarter, the
+/// bound of that solve, from the inexact second one, held nothing (now
+/// CF-FP halves the step from the last bound that held). Each converges
+/// on 1 and 2 ranks within the target of a tight run at -ubr_r 500.
+#[test]
+fn a_quarter_that_rolls_is_solved() {
+    for side in ["10", "25"] {
+        let load = format!("{side},-100");
+        let args = |extra: &[&'static str]| {
+            let mut v = vec![
+                "-mesh",
+                "meshes/hertz_1692.msh",
+                "-E",
+                "2000",
+                "-nu",
+                "0.3",
+                "-traction_top",
+                load.as_str(),
+                "-contact_surface",
+                "contact",
+                "-contact_direction",
+                "0,-1",
+                "-obstacle",
+                "plane",
+                "-obstacle_point",
+                "0,0",
+                "-friction",
+                "coulomb",
+                "-friction_coefficient",
+                "0.3",
+            ];
+            v.extend_from_slice(extra);
+            v
+        };
+        let tight = args(&["-ubr_r", "500", "-ubr_lambda_rtol", "1e-9"]);
+        let (run, rep, reference) = solve_rows("rolls tight", 1, &tight);
+        assert!(rep.converged, "{side}: {}", run.stdout);
+        for ranks in [1, 2] {
+            let (run, rep, rows) = solve_rows("rolls", ranks, &args(&[]));
+            assert!(
+                rep.converged,
+                "{side}, {ranks} ranks: {}\n{}",
+                run.stdout, run.stderr
+            );
+            let gap = max_stress_gap(&rows, &reference);
+            assert!(gap <= 1e-3, "{side}, {ranks} ranks: error {gap:.2e}");
+        }
+    }
+}

@@ -210,7 +210,7 @@ fn algorithm(m: &Results) {
         }
         if s.ubr.anderson > 0 {
             println!(
-                "  Anderson        memory {} (safeguarded type II on z = lambda + r B u): {} of {} evaluations extrapolated, {} rejected{}",
+                "  Anderson        memory {} (safeguarded type II on z = lambda + r B u): {} of {} evaluations extrapolated, {} rejected{}{}",
                 s.ubr.anderson,
                 res.last.anderson_steps,
                 res.last.iterations,
@@ -219,6 +219,12 @@ fn algorithm(m: &Results) {
                     " (the last Tresca solve)"
                 } else {
                     ""
+                },
+                match (res.last.anderson_retreats, res.fixed_point_iterations) {
+                    (0, _) => String::new(),
+                    (_, 0) => "; its iterates drifted or stalled: the plain iteration from the best of them".into(),
+                    (1, _) => "; in one Tresca solve the iterates drifted or stalled: the plain iteration from the best of them".into(),
+                    (n, _) => format!("; in {n} Tresca solves the iterates drifted or stalled: the plain iteration from the best of them"),
                 }
             );
         } else {

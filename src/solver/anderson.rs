@@ -103,6 +103,14 @@ impl Anderson {
         self.next = 0;
     }
 
+    /// Forgets every evaluation: the next point is a new start.
+    pub fn restart(&mut self) {
+        self.clear();
+        self.have_prev = false;
+        self.extrapolated = false;
+        self.best = f64::INFINITY;
+    }
+
     /// Local part of `||v||_W^2`.
     pub fn local_norm2(&self, v: &[f64]) -> f64 {
         v.iter().zip(&self.w).map(|(x, w)| w * x * x).sum()

@@ -29,6 +29,7 @@ use super::ubr::{complete, ubr, UbrControl, UbrOutcome, Whole};
 use super::Problem;
 use crate::comm::{allreduce_max_n, allreduce_sum};
 use crate::error::Error;
+use crate::petsc::Vector;
 use mpi::traits::*;
 
 /// Accuracy stop: the Tresca solves' target, relative to the outer one.
@@ -118,36 +119,40 @@ fn fixed_point<C: Communicator>(
     let mut prev: Option<(Vec<f64>, Vec<f64>)> = None;
     let mut changes = Changes::default();
     let mut outer = (fp_anderson > 0).then(|| Anderson::new(fp_anderson, w.clone()));
-    // Consecutive Tresca solves stopped at round-off, and the tolerance
-    // below which the last of them says the Tresca solves cannot go.
-    let mut roundoffs = 0;
-    let mut floor = 0.0f64;
+    let mut floors = Floors::default();
     // Consecutive fixed-point iterations whose change of s is round-off.
     let mut flat = 0;
+    let (mut halving, mut retreats) = (Halving::default(), 0);
     for m in 0..fp_max_it {
-        // The paper's variable inner tolerance eps_f^m = max(0.1^m, eps_f);
-        // our dual and tension tests loosen with it (an open node's stress is
-        // r (u_n^k - u_n^{k-1}) until u settles: at eps_f^0 = 1 a tension test
-        // at its final value would hold the first, frictionless, solve for
-        // tens of iterations).
-        let (mut inner, full_tolerance) = inner_control(ctl, m, paper);
-        // Never tighter than the round-off an earlier solve stopped at.
-        inner.lambda_rtol = inner.lambda_rtol.max(floor);
-        // Only the last Tresca solve's whole displacement is wanted, and
-        // which is last is known after it: made below, once.
-        inner.defer_whole = true;
-        let run = ubr(world, problem, state, Some(&s), &inner, events)?;
-        // At its floor: at round-off, or stalled at the outer target (a
-        // floor above 1e-12: stamp2d_gravity_coulomb at -ubr_r 1e6, 2e-12).
-        let at_floor = run.roundoff
-            || !paper && !run.converged && run.error_estimate <= 0.25 * ctl.lambda_rtol;
-        if at_floor {
-            // Eight times its estimate: a later solve at this floor passes
-            // at twice it; never looser than the outer target.
-            floor = (8.0 * run.error_estimate).min(ctl.lambda_rtol);
-        }
+        let (inner, full_tolerance) = floors.control(ctl, m, paper);
+        let run = match ubr(world, problem, state, Some(&s), &inner, events) {
+            // Iterates without bound (a Tresca problem without solution):
+            // back to the last bound that held, half the step; none left,
+            // the answer is that bound's solution, with the failure.
+            Err(Error::NotConverged(why)) => {
+                if halving.back(world, &mut s, state, &mut outer, ctl.monitor)? {
+                    continue;
+                }
+                let Some((bound, good)) = halving.restore(state)? else {
+                    return Err(Error::NotConverged(why));
+                };
+                (out.bound, out.last) = (bound, good);
+                out.failure = Some(format!("CF-FP fixed-point iteration {m}: {why}"));
+                break;
+            }
+            r => r?,
+        };
+        let (at_floor, stalled) = floors.judge(&run, ctl, paper);
         out.inner_iterations += run.iterations;
+        retreats += run.anderson_retreats;
         out.fixed_point_iterations = m + 1;
+        // (Two solves in a row at their floor: no bound would do better.)
+        if stalled && !at_floor && halving.back(world, &mut s, state, &mut outer, ctl.monitor)? {
+            continue;
+        }
+        if !stalled {
+            halving.keep(world, &s, state, &run)?;
+        }
         let st = &state.surface;
         // s^{m+1} = nu_f |lambda_c^m| (the multiplier of the Tresca solve)
         for (x, l) in next.iter_mut().zip(&st.lambda_n) {
@@ -167,16 +172,8 @@ fn fixed_point<C: Communicator>(
             monitor(m, &run, &inner, paper, out.fp_change, estimate);
         }
         out.bound.clone_from(&s);
-        // Stopped by its cap or stalled (a Tresca problem its bound cannot
-        // hold): the fixed point cannot converge either. A solve stopped
-        // at round-off is as accurate as it gets: the outer test decides,
-        // the later solves aiming at that floor, unless two in a row
-        // stopped there (stamp2d_gravity_coulomb on 2 and 3 ranks at
-        // -ubr_lambda_rtol 1e-10: Tresca solves flat at 5.8e-14 and
-        // 1.4e-13, their estimates 2.2e-11 and 6.3e-12 above their target
-        // of 2.5e-12, ten times tighter than the outer one).
-        roundoffs = if at_floor { roundoffs + 1 } else { 0 };
-        let stalled = !run.converged && (!at_floor || roundoffs >= 2);
+        // Stopped by its cap or stalled, no halving left (a Tresca problem
+        // its bound cannot hold): the fixed point cannot converge either.
         out.last = run;
         if stalled {
             out.failure = out.last.failure.clone().map(|f| {
@@ -212,7 +209,170 @@ fn fixed_point<C: Communicator>(
     if !out.converged && out.failure.is_none() {
         out.failure = Some(cap_message(&out, paper, fp_rtol, ctl.lambda_rtol, flat));
     }
+    out.last.anderson_retreats = retreats;
     Ok(out)
+}
+
+/// The Tresca solves stopped at their floor: consecutive ones, and the
+/// tolerance below which the last of them says the Tresca solves cannot go.
+#[derive(Default)]
+struct Floors {
+    in_a_row: usize,
+    floor: f64,
+}
+
+impl Floors {
+    /// The control of the Tresca solve at fixed-point iteration m, and
+    /// whether its tolerance is the full one. The paper's variable inner
+    /// tolerance eps_f^m = max(0.1^m, eps_f); our dual and tension tests
+    /// loosen with it (an open node's stress is r (u_n^k - u_n^{k-1})
+    /// until u settles: at eps_f^0 = 1 a tension test at its final value
+    /// would hold the first, frictionless, solve for tens of iterations).
+    fn control(&self, ctl: &UbrControl, m: usize, paper: bool) -> (UbrControl, bool) {
+        let (mut inner, full_tolerance) = inner_control(ctl, m, paper);
+        // Never tighter than the round-off an earlier solve stopped at.
+        inner.lambda_rtol = inner.lambda_rtol.max(self.floor);
+        // Only the last Tresca solve's whole displacement is wanted, and
+        // which is last is known after it: made once, at the end.
+        inner.defer_whole = true;
+        (inner, full_tolerance)
+    }
+
+    /// After a Tresca solve: whether it stopped at its floor, and whether
+    /// it failed. At its floor: at round-off, or stalled at the outer
+    /// target (a floor above 1e-12: stamp2d_gravity_coulomb at -ubr_r 1e6,
+    /// 2e-12). A solve stopped there is as accurate as it gets: the outer
+    /// test decides, the later solves aiming at that floor, unless two in
+    /// a row stopped there (stamp2d_gravity_coulomb on 2 and 3 ranks at
+    /// -ubr_lambda_rtol 1e-10: Tresca solves flat at 5.8e-14 and 1.4e-13,
+    /// their estimates 2.2e-11 and 6.3e-12 above their target of 2.5e-12,
+    /// ten times tighter than the outer one).
+    fn judge(&mut self, run: &UbrOutcome, ctl: &UbrControl, paper: bool) -> (bool, bool) {
+        let at_floor = run.roundoff
+            || !paper && !run.converged && run.error_estimate <= 0.25 * ctl.lambda_rtol;
+        if at_floor {
+            // Eight times its estimate: a later solve at this floor passes
+            // at twice it; never looser than the outer target.
+            self.floor = (8.0 * run.error_estimate).min(ctl.lambda_rtol);
+        }
+        self.in_a_row = if at_floor { self.in_a_row + 1 } else { 0 };
+        (
+            at_floor,
+            !run.converged && (!at_floor || self.in_a_row >= 2),
+        )
+    }
+}
+
+/// Halvings of one step of s before CF-FP gives up, and of the whole run.
+const HALVINGS: usize = 4;
+const HALVINGS_IN_ALL: usize = 16;
+
+/// The bound of the last Tresca solve that converged, and its solution.
+/// Where the next bound nu_f |lambda_c| makes a Tresca problem without
+/// solution, CF-FP goes back to it and takes half the step, up to
+/// [`HALVINGS`] times: the bounds under which a Tresca problem has a
+/// solution form a convex set (those of the loads' balance with
+/// |lambda_t| <= s), and the last good bound is in it. The Coulomb fixed
+/// point is the halved map's too. (The Hertz quarter without its
+/// symmetry condition, Coulomb 0.3, pushed sideways by a quarter of its
+/// normal load: the bound of the second Tresca solve, from the inexact
+/// first, held nothing, its solve stalled, exit 3; at -ubr_r 500 it
+/// converged.) A sticking bound (infinite) is no point to go back to.
+/// The last good Tresca solve: its bound, state, whole displacement and
+/// outcome (whose pending whole displacement is that state's).
+struct Good {
+    s: Vec<f64>,
+    surface: SurfaceState,
+    u: Vector,
+    run: UbrOutcome,
+}
+
+#[derive(Default)]
+struct Halving {
+    good: Option<Good>,
+    count: usize,
+    in_all: usize,
+}
+
+impl Halving {
+    /// A Tresca solve with the bound `s` converged (or stopped at its
+    /// floor): its state is the one to go back to.
+    fn keep<C: Communicator>(
+        &mut self,
+        world: &C,
+        s: &[f64],
+        state: &UbrState,
+        run: &UbrOutcome,
+    ) -> Result<(), Error> {
+        let infinite = s.iter().filter(|x| x.is_infinite()).count() as f64;
+        if allreduce_sum(world, [infinite])[0] > 0.0 {
+            return Ok(());
+        }
+        self.count = 0;
+        match &mut self.good {
+            Some(g) => {
+                g.s.clear();
+                g.s.extend_from_slice(s);
+                g.surface.clone_from(&state.surface);
+                g.u.copy_from(&state.u)?;
+                g.run.clone_from(run);
+            }
+            None => {
+                let u = state.u.duplicate()?;
+                u.copy_from(&state.u)?;
+                let (s, surface, run) = (s.to_vec(), state.surface.clone(), run.clone());
+                self.good = Some(Good { s, surface, u, run });
+            }
+        }
+        Ok(())
+    }
+
+    /// The Tresca solve with `s` failed: `s` halfway back to the last
+    /// good bound, the state its solution, the outer acceleration
+    /// restarted. False where there is none (the first solve, a sticking
+    /// one) or after [`HALVINGS`] halvings of this step.
+    fn back<C: Communicator>(
+        &mut self,
+        world: &C,
+        s: &mut [f64],
+        state: &mut UbrState,
+        outer: &mut Option<Anderson>,
+        monitor: bool,
+    ) -> Result<bool, Error> {
+        let more = self.count < HALVINGS && self.in_all < HALVINGS_IN_ALL;
+        let Some(g) = self.good.as_ref().filter(|_| more) else {
+            return Ok(false);
+        };
+        self.count += 1;
+        self.in_all += 1;
+        for (x, gs) in s.iter_mut().zip(&g.s) {
+            *x = 0.5 * (*x + gs);
+        }
+        state.surface.clone_from(&g.surface);
+        state.u.copy_from(&g.u)?;
+        if let Some(aa) = outer.as_mut() {
+            aa.restart();
+        }
+        if monitor && world.rank() == 0 {
+            println!(
+                "  CF-FP: the Tresca solve failed: half the step from the last bound that held ({} of {HALVINGS})",
+                self.count
+            );
+        }
+        Ok(true)
+    }
+
+    /// No halving left after a solve whose iterates moved without bound:
+    /// the state back to the last good solve's; its bound and outcome (the
+    /// answer reported with the failure, not the drifted iterate).
+    fn restore(&mut self, state: &mut UbrState) -> Result<Option<(Vec<f64>, UbrOutcome)>, Error> {
+        let Some(g) = self.good.take() else {
+            return Ok(None);
+        };
+        state.surface = g.surface;
+        state.u.copy_from(&g.u)?;
+        Ok(Some((g.s, g.run)))
+    }
 }
 
 /// The next bound s from `next` = nu_f |lambda_c(s)|: Anderson on the

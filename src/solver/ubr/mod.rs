@@ -145,6 +145,9 @@ pub struct UbrOutcome {
     /// Anderson: evaluations at an extrapolated point, and rejections.
     pub anderson_steps: usize,
     pub anderson_rejected: usize,
+    /// Runs whose Anderson iterates drifted or stalled, and went on plain
+    /// (0 or 1; CF-FP's outcome: over all its Tresca solves).
+    pub anderson_retreats: usize,
     /// Why the run stopped without converging (None: converged).
     pub failure: Option<String>,
     /// Stopped at round-off (the accuracy test, its residual flat at 1e-12

@@ -4,7 +4,7 @@
 //! tests.
 
 use super::measures::{z_weights, Maxima, Sums};
-use super::messages::{failure, r_far_words, roundoff, stalled};
+use super::messages::{failure, roundoff, stalled};
 use super::{tangential_from_whole, whole_displacement, Pending};
 use super::{UbrControl, UbrOutcome, Whole, DRIFT_ITS, INNER_FACTOR_MIN, TANGENTIAL_FLOOR};
 use crate::comm::{allreduce_max, allreduce_max_n, allreduce_sum};
@@ -18,6 +18,9 @@ use crate::solver::stopping::{paper_change, Accuracy, Progress, StopRule, STALL_
 use crate::solver::surface::{Surface, UbrState};
 use mpi::collective::SystemOperation;
 use mpi::traits::*;
+
+mod drift;
+use drift::{unbounded, Retreat};
 
 /// One UBR run: the iterate's arrays, and what the stopping tests remember.
 /// [`Run::iterate`] is one iteration k, its methods the paper's steps.
@@ -71,6 +74,8 @@ pub(super) struct Run<'a, C: Communicator> {
     /// A zero bound everywhere (a frictionless solve through UBR-TF).
     no_friction: bool,
     inner_factor: f64,
+    /// Anderson's way back to the plain iteration where its iterates drift.
+    retreat: Retreat,
     k: usize,
 }
 
@@ -130,6 +135,8 @@ impl<'a, C: Communicator> Run<'a, C> {
         let no_friction = friction_bound.is_some_and(|b| {
             allreduce_max(world, b.iter().fold(0.0, |a: f64, &x| a.max(x))) == 0.0
         });
+        let acc = Accuracy::new(ctl.lambda_rtol).seeded(seed).inexact(inexact);
+        let retreat = Retreat::new(&acc);
         Ok(Run {
             world,
             lin,
@@ -155,7 +162,7 @@ impl<'a, C: Communicator> Run<'a, C> {
             c_prev: vec![0.0; nc * d],
             uc: vec![0.0; nc * d],
             uc_prev: vec![0.0; nc * d],
-            acc: Accuracy::new(ctl.lambda_rtol).seeded(seed).inexact(inexact),
+            acc,
             progress: Progress::new(cold),
             deferred,
             u_prev,
@@ -167,6 +174,7 @@ impl<'a, C: Communicator> Run<'a, C> {
             last: Sums::default(),
             no_friction,
             inner_factor: ctl.inner_rtol_factor,
+            retreat,
             k: 0,
         })
     }
@@ -197,12 +205,15 @@ impl<'a, C: Communicator> Run<'a, C> {
         self.project(&mut sums, &mut ext);
         let (sums, ext) = self.reduce(sums, ext);
         let p = self.residual_p(&ext);
+        self.keep_best(p, sums.contact > 0.0);
         let amplification = self.accelerate(sums.f2.sqrt());
         let est = self.record(p, &sums, amplification);
         self.monitor(its, est, p);
         self.k += 1;
         self.out.iterations = self.k;
-        self.guard(&sums, &ext, p)?;
+        if self.guard(&sums, &ext, p)? {
+            return Ok(false); // back to the plain iteration: no test of the drift
+        }
         if self.stop(&sums, &ext, p)? {
             return Ok(true);
         }
@@ -549,8 +560,9 @@ impl<'a, C: Communicator> Run<'a, C> {
     }
 
     /// The run cannot go on: a non-finite iterate, a body pulled off the
-    /// obstacle, or iterates that move without bound.
-    fn guard(&mut self, sums: &Sums, ext: &Maxima, p: f64) -> Result<(), Error> {
+    /// obstacle, or iterates that move without bound (true: Anderson's,
+    /// the run goes on plain from its best evaluation).
+    fn guard(&mut self, sums: &Sums, ext: &Maxima, p: f64) -> Result<bool, Error> {
         let (name, k) = (self.name, self.k);
         if !self.out.residual.is_finite() || !p.is_finite() {
             // At the first iteration no contact stress has acted yet: the
@@ -589,9 +601,15 @@ impl<'a, C: Communicator> Run<'a, C> {
         // tangential load, a pressure that friction cannot use).
         let first = *self.first_umax.get_or_insert(ext.umax);
         if ext.umax > self.ctl.drift_limit.max(10.0 * first) {
+            let umax = ext.umax;
+            if self.retreat(format_args!(
+                "move without bound (a contact node has moved {umax:.3e})"
+            )) {
+                return Ok(true);
+            }
             return Err(unbounded(self, sums, ext, first));
         }
-        Ok(())
+        Ok(false)
     }
 
     /// The stopping tests ([`super::stopping`]): the accuracy test, or the
@@ -600,8 +618,14 @@ impl<'a, C: Communicator> Run<'a, C> {
         let (ctl, k) = (self.ctl, self.k);
         // The accuracy test stops at round-off too (its estimate cannot
         // fall further); the paper's test may still (its change of u).
-        let stalled = self.progress.record(p, sums.changes as usize)
-            || !self.paper && self.progress.at_roundoff();
+        // Stalled far from the target, not at a floor near it (a Tresca
+        // solve of CF-FP at 2e-12 with -ubr_r 31 times r0).
+        let stalled = self.progress.record(p, sums.changes as usize);
+        let far = self.out.error_estimate > 100.0 * ctl.lambda_rtol;
+        if stalled && far && self.retreat(format_args!("have stalled (P {p:.3e})")) {
+            return Ok(false);
+        }
+        let stalled = stalled || !self.paper && self.progress.at_roundoff();
         // Held-body tests: where nodes touch, the stress of u^k must not turn
         // tensile; where none does, an open node's stress is the lag
         // r (u_n^k - u_n^{k-1}), which dies out with the iteration when the
@@ -860,41 +884,4 @@ impl<'a, C: Communicator> Run<'a, C> {
         }
         Ok(out)
     }
-}
-
-/// The error of iterates that move without bound: what holds the bodies
-/// and what to try.
-/// `first`: the largest displacement of a contact node at the first
-/// iterate, where ten times it is above the drift limit.
-fn unbounded<C: Communicator>(run: &Run<'_, C>, sums: &Sums, ext: &Maxima, first: f64) -> Error {
-    let (name, k, ctl) = (run.name, run.k, run.ctl);
-    if let Some(r0) = ctl.r_far {
-        return Error::NotConverged(format!(
-            "{name}: the iterates move without bound (a contact node has moved {:.3e} after {k} iterations): {}",
-            ext.umax,
-            r_far_words(run.r, r0)
-        ));
-    }
-    let what = if sums.contact == 0.0 {
-        "no node touches the obstacle".to_string()
-    } else if run.friction_bound.is_some() && sums.stick == 0.0 && !run.no_friction {
-        format!(
-            "every one of the {} contact nodes slips: friction cannot hold the tangential load with the pressures this body develops, and the body slides",
-            sums.contact
-        )
-    } else {
-        format!("{} nodes touch the obstacle", sums.contact)
-    };
-    let scale = if 10.0 * first > ctl.drift_limit {
-        format!("its largest displacement at the first iterate ({first:.3e})")
-    } else {
-        format!(
-            "the size and gap of the bodies that only contact holds ({:.3e})",
-            ctl.drift_limit / 10.0
-        )
-    };
-    Error::NotConverged(format!(
-        "{name}: the body moves without bound: after {k} iterations a contact node has moved {:.3e}, ten times {scale}; {what}; no contact state found holds the loads (lower the loads, raise the friction, or add a Dirichlet condition; where another method finds an answer, the iteration is at fault: try -ubr_anderson 0)",
-        ext.umax,
-    ))
 }

@@ -1,0 +1,175 @@
+//! Iterates that move without bound: Anderson's retreat to the plain
+//! iteration, and the error that names what holds the bodies.
+//!
+//! Anderson's extrapolation can stagnate on a Tresca problem that has a
+//! solution: its residual flat while z moves along a direction the residual
+//! does not see, and the iterates drift (the Hertz quarter without its
+//! symmetry condition, Coulomb 0.3 and a sideways load of a tenth of the
+//! normal one: CF-FP's second Tresca solve moved a contact node 1e7 with its
+//! residual P flat at 0.143, while the plain iteration from the same bound
+//! converges). Such a run goes back to the evaluation of its smallest
+//! residual and goes on with the plain iteration, which converges wherever
+//! a solution exists (Koko 2010, Theorem 4.1); only where the plain
+//! iteration drifts too is the run stopped.
+
+use super::super::measures::{Maxima, Sums};
+use super::super::messages::r_far_words;
+use super::Run;
+use crate::error::Error;
+use crate::solver::stopping::{Accuracy, Progress};
+use mpi::traits::*;
+
+/// The plain iterate after the evaluation of Anderson's smallest residual,
+/// and whether (at which iteration) the run has gone back to it.
+pub(super) struct Retreat {
+    /// The smallest residual P of the run, at iteration `best_k`.
+    best: f64,
+    best_k: usize,
+    /// phi_n, phi_t, lambda_n, lambda_t, u_n, u_t after that evaluation.
+    point: [Vec<f64>; 6],
+    /// The accuracy test as the run started.
+    start: Accuracy,
+    /// The iteration at which Anderson's iterates drifted (None: they have not).
+    pub at: Option<usize>,
+    /// The last evaluation at which nothing touched.
+    untouched: Option<usize>,
+}
+
+/// Evaluations with nodes in contact, in a row, that make a drift
+/// Anderson's, not a body the loads pull off (where nothing touches, the
+/// loads pull the body off whatever the iteration: a history step of the
+/// Hertz Tresca scene with the load reversed drifted with one node
+/// touching now and then, and was called two things at random).
+const TOUCHING: usize = 10;
+
+impl Retreat {
+    pub(super) fn new(start: &Accuracy) -> Retreat {
+        Retreat {
+            best: f64::INFINITY,
+            best_k: 0,
+            point: Default::default(),
+            start: start.clone(),
+            at: None,
+            untouched: None,
+        }
+    }
+}
+
+impl<C: Communicator> Run<'_, C> {
+    /// Anderson: keeps the plain iterate of an evaluation whose residual P
+    /// is the smallest so far (the projection's phi and lambda, before the
+    /// extrapolation replaces them), and notes one where nothing touches.
+    pub(super) fn keep_best(&mut self, p: f64, touching: bool) {
+        let rt = &mut self.retreat;
+        if !touching {
+            rt.untouched = Some(self.k);
+        }
+        if self.aa.is_none() || rt.at.is_some() || p.is_nan() || p >= rt.best {
+            return;
+        }
+        rt.best = p;
+        rt.best_k = self.k;
+        let st = &self.state.surface;
+        let from = [
+            &st.phi_n,
+            &st.phi_t,
+            &st.lambda_n,
+            &st.lambda_t,
+            &st.un,
+            &st.ut,
+        ];
+        for (to, from) in rt.point.iter_mut().zip(from) {
+            to.clone_from(from);
+        }
+    }
+
+    /// Anderson's iterates drift or stall (`why`, for the monitor): goes
+    /// back to the plain iterate of the smallest residual, and on without
+    /// Anderson. False where the run is plain already (the drift or the
+    /// stall is the problem's), or nothing touched lately ([`TOUCHING`]).
+    pub(super) fn retreat(&mut self, why: std::fmt::Arguments) -> bool {
+        let rt = &mut self.retreat;
+        // An r far from the trial r0 is the cause the failure names.
+        let far = self.ctl.r_far.is_some();
+        let lately = rt.untouched.is_some_and(|k| self.k < k + TOUCHING);
+        if self.aa.is_none() || rt.at.is_some() || !rt.best.is_finite() || far || lately {
+            return false;
+        }
+        rt.at = Some(self.k);
+        self.out.anderson_retreats = 1;
+        let st = &mut self.state.surface;
+        let to = [
+            &mut st.phi_n,
+            &mut st.phi_t,
+            &mut st.lambda_n,
+            &mut st.lambda_t,
+            &mut st.un,
+            &mut st.ut,
+        ];
+        for (to, from) in to.into_iter().zip(&rt.point) {
+            to.copy_from_slice(from);
+        }
+        self.aa = None;
+        self.z_in = None;
+        // The plain iteration's own tests: its residuals and contraction,
+        // none of the drift's.
+        self.acc = rt.start.clone();
+        self.progress = Progress::new(true);
+        self.drifting = 0;
+        if self.root && self.ctl.monitor {
+            println!(
+                "  {}: Anderson's iterates {why} at iteration {}: the plain iteration from the evaluation of the smallest residual P ({:.3e}, iteration {})",
+                self.name, self.k, rt.best, rt.best_k
+            );
+        }
+        true
+    }
+}
+
+/// The error of iterates that move without bound: what holds the bodies
+/// and what to try.
+/// `first`: the largest displacement of a contact node at the first
+/// iterate, where ten times it is above the drift limit.
+pub(super) fn unbounded<C: Communicator>(
+    run: &Run<'_, C>,
+    sums: &Sums,
+    ext: &Maxima,
+    first: f64,
+) -> Error {
+    let (name, k, ctl) = (run.name, run.k, run.ctl);
+    if let Some(r0) = ctl.r_far {
+        return Error::NotConverged(format!(
+            "{name}: the iterates move without bound (a contact node has moved {:.3e} after {k} iterations): {}",
+            ext.umax,
+            r_far_words(run.r, r0)
+        ));
+    }
+    let what = if sums.contact == 0.0 {
+        "no node touches the obstacle".to_string()
+    } else if run.friction_bound.is_some() && sums.stick == 0.0 && !run.no_friction {
+        format!(
+            "every one of the {} contact nodes slips: friction cannot hold the tangential load with the pressures this body develops, and the body slides",
+            sums.contact
+        )
+    } else {
+        format!("{} nodes touch the obstacle", sums.contact)
+    };
+    let scale = if 10.0 * first > ctl.drift_limit {
+        format!("its largest displacement at the first iterate ({first:.3e})")
+    } else {
+        format!(
+            "the size and gap of the bodies that only contact holds ({:.3e})",
+            ctl.drift_limit / 10.0
+        )
+    };
+    let plain = match run.retreat.at {
+        Some(at) => format!(
+            "; Anderson's iterates drifted first (iteration {at}), and the plain iteration from their smallest residual drifts too"
+        ),
+        None => String::new(),
+    };
+    Error::NotConverged(format!(
+        "{name}: the body moves without bound: after {k} iterations a contact node has moved {:.3e}, ten times {scale}; {what}{plain}; no contact state found holds the loads (lower the loads, raise the friction, or add a Dirichlet condition)",
+        ext.umax,
+    ))
+}
