@@ -330,6 +330,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                 bound: Vec::new(),
                 error_estimate: None,
                 failure: None,
+                unsolved: true,
             },
         })
     }

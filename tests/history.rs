@@ -701,6 +701,13 @@ fn history_steps_are_judged_by_their_own_loads() {
     );
     assert_eq!(run.status, Some(3), "{}", run.context());
     assert!(run.stderr.contains("load step 2/2"), "{}", run.context());
+    // Its summary shows no answer (the zero start) and says so.
+    assert!(
+        run.stdout
+            .contains("answer          none: the run stopped with the error below"),
+        "{}",
+        run.context()
+    );
     let rows = history_rows(&out);
     assert_eq!(rows.len(), 1);
     assert!(

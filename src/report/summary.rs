@@ -287,6 +287,9 @@ fn iterations(m: &Results) {
             m.state.inner_iterations.iter().sum::<usize>()
         );
     }
+    if res.unsolved {
+        println!("  answer          none: the run stopped with the error below; what follows is the zero start, not a solution");
+    }
 }
 
 fn contact(m: &Results) {

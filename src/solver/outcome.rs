@@ -59,6 +59,9 @@ pub struct Solved {
     pub error_estimate: Option<f64>,
     /// Why the run did not converge.
     pub failure: Option<String>,
+    /// No answer: the run stopped with an error before one (the state is
+    /// the zero start, which the summary must not pass for an answer).
+    pub unsolved: bool,
 }
 
 impl Solved {
@@ -74,6 +77,7 @@ impl Solved {
             bound: Vec::new(),
             error_estimate: None,
             failure: None,
+            unsolved: false,
         }
     }
 
