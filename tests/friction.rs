@@ -421,11 +421,11 @@ fn cf_fp_outer_estimate_at_the_noise_of_inexact_solves() {
 /// Coulomb 0.3: the quarter rolls until its contact zone sits under the
 /// load (19-20 nodes from x = 3.7, one sticking). Both ended with exit 3 at
 /// the automatic r: at a tenth, Anderson's iterates in CF-FP's third
-/// Tresca solve moved without bound while the plain iteration converges
-/// (now the run goes on plain from its best point); at a quarter, the
-/// bound of that solve, from the inexact second one, held nothing (now
-/// CF-FP halves the step from the last bound that held). Each converges
-/// on 1 and 2 ranks within the target of a tight run at -ubr_r 500.
+/// Tresca solve moved without bound (the plain iteration converges from
+/// that bound); at a quarter, that solve's bound, from the inexact second
+/// one, held nothing. CF-FP now halves the step from the last bound that
+/// held. Each converges on 1 and 2 ranks within the target of a tight run
+/// at -ubr_r 500.
 #[test]
 fn a_quarter_that_rolls_is_solved() {
     for side in ["10", "25"] {

@@ -144,6 +144,7 @@ pub fn control(settings: &Settings) -> ubr::UbrControl {
         r_far: None,
         displacement: ubr::Whole::WithChange,
         defer_whole: false,
+        retreat: true,
     }
 }
 

@@ -100,6 +100,10 @@ pub struct UbrControl {
     /// the last alone gives the answer (each full solve cost as much as
     /// the rest of the solve on hertz_37473).
     pub defer_whole: bool,
+    /// Anderson's iterates that drift or stall go back to the plain
+    /// iteration (false: the run fails, and its caller has a cheaper way
+    /// on: CF-FP's halving of the step of its bound).
+    pub retreat: bool,
 }
 
 /// The whole displacement at the end of a condensed run.

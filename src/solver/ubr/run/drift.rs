@@ -86,13 +86,16 @@ impl<C: Communicator> Run<'_, C> {
     /// Anderson's iterates drift or stall (`why`, for the monitor): goes
     /// back to the plain iterate of the smallest residual, and on without
     /// Anderson. False where the run is plain already (the drift or the
-    /// stall is the problem's), or nothing touched lately ([`TOUCHING`]).
+    /// stall is the problem's), where its caller goes on otherwise
+    /// ([`super::super::UbrControl::retreat`]), or where nothing touched
+    /// lately ([`TOUCHING`]).
     pub(super) fn retreat(&mut self, why: std::fmt::Arguments) -> bool {
         let rt = &mut self.retreat;
         // An r far from the trial r0 is the cause the failure names.
         let far = self.ctl.r_far.is_some();
         let lately = rt.untouched.is_some_and(|k| self.k < k + TOUCHING);
-        if self.aa.is_none() || rt.at.is_some() || !rt.best.is_finite() || far || lately {
+        let plain = self.aa.is_none() || !self.ctl.retreat;
+        if plain || rt.at.is_some() || !rt.best.is_finite() || far || lately {
             return false;
         }
         rt.at = Some(self.k);
