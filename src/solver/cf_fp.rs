@@ -271,17 +271,6 @@ impl Floors {
 /// fixed-point iteration: `-ubr_fp_max_it` bounds them all).
 const HALVINGS: usize = 4;
 
-/// The bound of the last Tresca solve that converged, and its solution.
-/// Where the next bound nu_f |lambda_c| makes a Tresca problem without
-/// solution, CF-FP goes back to it and takes half the step, up to
-/// [`HALVINGS`] times: the bounds under which a Tresca problem has a
-/// solution form a convex set (those of the loads' balance with
-/// |lambda_t| <= s), and the last good bound is in it. The Coulomb fixed
-/// point is the halved map's too. (The Hertz quarter without its
-/// symmetry condition, Coulomb 0.3, pushed sideways by a quarter of its
-/// normal load: the bound of the second Tresca solve, from the inexact
-/// first, held nothing, its solve stalled, exit 3; at -ubr_r 500 it
-/// converged.) A sticking bound (infinite) is no point to go back to.
 /// The last good Tresca solve: its bound, state, whole displacement and
 /// outcome (whose pending whole displacement is that state's).
 struct Good {
@@ -291,6 +280,17 @@ struct Good {
     run: UbrOutcome,
 }
 
+/// The last Tresca solve that converged, and the halvings of the step
+/// from its bound. Where the next bound nu_f |lambda_c| makes a Tresca
+/// problem without solution, CF-FP goes back to it and takes half the
+/// step, up to [`HALVINGS`] times: the bounds under which a Tresca problem
+/// has a solution form a convex set (those of the loads' balance with
+/// |lambda_t| <= s), and the last good bound is in it. The Coulomb fixed
+/// point is the halved map's too. (The Hertz quarter without its
+/// symmetry condition, Coulomb 0.3, pushed sideways by a quarter of its
+/// normal load: the bound of the third Tresca solve, from the inexact
+/// second, held nothing, its solve stalled, exit 3; at -ubr_r 500 it
+/// converged.) A sticking bound (infinite) is no point to go back to.
 #[derive(Default)]
 struct Halving {
     good: Option<Good>,

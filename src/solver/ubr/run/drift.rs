@@ -5,12 +5,14 @@
 //! solution: its residual flat while z moves along a direction the residual
 //! does not see, and the iterates drift (the Hertz quarter without its
 //! symmetry condition, Coulomb 0.3 and a sideways load of a tenth of the
-//! normal one: CF-FP's second Tresca solve moved a contact node 1e7 with its
+//! normal one: CF-FP's third Tresca solve moved a contact node 1e7 with its
 //! residual P flat at 0.143, while the plain iteration from the same bound
-//! converges). Such a run goes back to the evaluation of its smallest
-//! residual and goes on with the plain iteration, which converges wherever
-//! a solution exists (Koko 2010, Theorem 4.1); only where the plain
-//! iteration drifts too is the run stopped.
+//! converges in 1038 iterations). Such a run goes back to the evaluation of
+//! its smallest residual and goes on with the plain iteration, which
+//! converges wherever a solution exists (Koko 2010, Theorem 4.1); only where
+//! the plain iteration drifts or stalls too is the run stopped. (CF-FP
+//! halves such a step of its bound first, which is cheaper:
+//! [`super::super::UbrControl::retreat`].)
 
 use super::super::measures::{Maxima, Sums};
 use super::super::messages::r_far_words;
@@ -167,7 +169,7 @@ pub(super) fn unbounded<C: Communicator>(
     };
     let plain = match run.retreat.at {
         Some(at) => format!(
-            "; Anderson's iterates drifted first (iteration {at}), and the plain iteration from their smallest residual drifts too"
+            "; Anderson's iterates drifted or stalled first (iteration {at}), and the plain iteration from their smallest residual drifts too"
         ),
         None => String::new(),
     };
