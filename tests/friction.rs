@@ -430,29 +430,9 @@ fn cf_fp_outer_estimate_at_the_noise_of_inexact_solves() {
 fn a_quarter_that_rolls_is_solved() {
     for side in ["10", "25"] {
         let load = format!("{side},-100");
+        let coulomb = ["-friction", "coulomb", "-friction_coefficient", "0.3"];
         let args = |extra: &[&'static str]| {
-            let mut v = vec![
-                "-mesh",
-                "meshes/hertz_1692.msh",
-                "-E",
-                "2000",
-                "-nu",
-                "0.3",
-                "-traction_top",
-                load.as_str(),
-                "-contact_surface",
-                "contact",
-                "-contact_direction",
-                "0,-1",
-                "-obstacle",
-                "plane",
-                "-obstacle_point",
-                "0,0",
-                "-friction",
-                "coulomb",
-                "-friction_coefficient",
-                "0.3",
-            ];
+            let mut v = hertz_free_x("meshes/hertz_1692.msh", &load, &coulomb);
             v.extend_from_slice(extra);
             v
         };

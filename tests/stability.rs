@@ -75,23 +75,7 @@ fn block<'a>(options: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
 /// options/hertz-paper without -dirichlet_symmetry, with this traction on the top
 /// edge: nothing holds the body in x.
 fn hertz_free_x(traction: &str) -> Vec<&str> {
-    vec![
-        "-mesh",
-        H442,
-        "-E",
-        "2000",
-        "-nu",
-        "0.3",
-        "-traction_top",
-        traction,
-        "-contact_surface",
-        "contact",
-        "-contact_direction",
-        "0,-1",
-        "-obstacle",
-        "plane",
-        "-obstacle_point",
-        "0,0",
+    let paper = [
         "-ubr_r",
         "220",
         "-ubr_anderson",
@@ -100,7 +84,8 @@ fn hertz_free_x(traction: &str) -> Vec<&str> {
         "paper",
         "-ubr_rho",
         "330",
-    ]
+    ];
+    common::hertz_free_x(H442, traction, &paper)
 }
 
 /// A word "nan", "inf" or "infinity" (any case) in the text.

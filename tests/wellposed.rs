@@ -5,29 +5,11 @@
 mod common;
 use common::*;
 
-/// The paper's Hertz quarter without its symmetry condition: nothing holds
-/// it along x (frictionless contact along n = -y cannot).
+/// The paper's Hertz quarter without its symmetry condition, pressed
+/// straight down: nothing holds it along x (frictionless contact along
+/// n = -y cannot).
 fn hertz_free_x<'a>(extra: &[&'a str]) -> Vec<&'a str> {
-    let mut v = vec![
-        "-mesh",
-        "meshes/hertz_442.msh",
-        "-E",
-        "2000",
-        "-nu",
-        "0.3",
-        "-traction_top",
-        "0,-100",
-        "-contact_surface",
-        "contact",
-        "-contact_direction",
-        "0,-1",
-        "-obstacle",
-        "plane",
-        "-obstacle_point",
-        "0,0",
-    ];
-    v.extend_from_slice(extra);
-    v
+    common::hertz_free_x("meshes/hertz_442.msh", "0,-100", extra)
 }
 
 /// A generated block pressed by a traction on its top onto a ball: no
@@ -184,12 +166,8 @@ fn friction_holds_a_body_under_a_tangential_load() {
 /// position arbitrary), and the run converges; so does a given bound.
 #[test]
 fn a_frictionless_bound_is_refused_where_friction_alone_holds() {
-    let sideways = |extra: &[&'static str]| -> Vec<&'static str> {
-        hertz_free_x(extra)
-            .into_iter()
-            .map(|a| if a == "0,-100" { "10,-100" } else { a })
-            .collect()
-    };
+    let sideways =
+        |extra: &[&'static str]| common::hertz_free_x("meshes/hertz_442.msh", "10,-100", extra);
     let tresca = ["-friction", "tresca", "-friction_coefficient", "0.3"];
     for (bound, words) in [
         (&[][..], "the default bound of -friction tresca"),

@@ -290,6 +290,32 @@ pub fn hertz_args<'a>(mesh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
     v
 }
 
+/// options/hertz without its symmetry condition `ux = 0`, on `mesh`, with
+/// `traction` on the top edge: contact and friction alone hold the quarter
+/// (frictionless contact along n = -y holds nothing along x).
+pub fn hertz_free_x<'a>(mesh: &'a str, traction: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec![
+        "-mesh",
+        mesh,
+        "-E",
+        "2000",
+        "-nu",
+        "0.3",
+        "-traction_top",
+        traction,
+        "-contact_surface",
+        "contact",
+        "-contact_direction",
+        "0,-1",
+        "-obstacle",
+        "plane",
+        "-obstacle_point",
+        "0,0",
+    ];
+    v.extend_from_slice(extra);
+    v
+}
+
 /// The Hertz scene with the paper's r and stopping test, Anderson-accelerated
 /// (`-ubr_anderson M` in `extra`; the paper's rho = 1.5 r is for the plain
 /// iteration only).
