@@ -22,16 +22,15 @@
 
 mod common;
 use common::*;
-use std::path::PathBuf;
 use std::process::Command;
 
 /// Meshes `tests/edges/NAME.geo` (2D or 3D) into a scratch directory.
-fn mesh(test: &str, name: &str, dim: usize) -> (PathBuf, String) {
+fn mesh(test: &str, name: &str, dim: usize) -> (Scratch, String) {
     mesh_with(test, name, dim, &[])
 }
 
 /// [`mesh`] with Gmsh arguments (`-setnumber gap 0.001`).
-fn mesh_with(test: &str, name: &str, dim: usize, extra: &[&str]) -> (PathBuf, String) {
+fn mesh_with(test: &str, name: &str, dim: usize, extra: &[&str]) -> (Scratch, String) {
     let dir = scratch(test);
     let msh = dir.join(format!("{name}.msh"));
     let run = Command::new("gmsh")

@@ -497,7 +497,7 @@ fn mindlin_3d_stick_zone() {
 /// The crowned block's quasi-static Coulomb history (press, pull
 /// sideways, release the pull) at a tight tolerance: its scratch dir and
 /// arguments.
-fn coulomb_history(name: &str) -> (std::path::PathBuf, Vec<String>) {
+fn coulomb_history(name: &str) -> (Scratch, Vec<String>) {
     let (dir, msh) = gmsh_2d(name, "tests/scenes/crowned2d_coulomb.geo");
     let table = dir.join("t.csv");
     std::fs::write(

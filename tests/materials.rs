@@ -26,7 +26,6 @@
 
 mod common;
 use common::*;
-use std::path::PathBuf;
 
 /// The column in 2D: `soft` (0,1)^2 below `hard` (0,1)x(1,2), groups
 /// bottom, left, right, top; `quads`: a structured mesh of quadrilaterals;
@@ -71,7 +70,7 @@ Physical Surface(\"ymin\") = Surface In BoundingBox{-e,-e,-e,1+e,e,2+e};
 ";
 
 /// Meshes `geo` (the text) with gmsh in a scratch directory: its `.msh`.
-fn mesh(name: &str, dim: &str, geo: &str) -> (PathBuf, String) {
+fn mesh(name: &str, dim: &str, geo: &str) -> (Scratch, String) {
     let dir = scratch(&format!("materials-{name}"));
     let g = dir.join(format!("{name}.geo"));
     std::fs::write(&g, geo).unwrap();

@@ -16,7 +16,7 @@ use std::f64::consts::PI;
 use std::process::Command;
 
 /// `geo` (tests/normals/...) meshed by Gmsh in `dim` D into a scratch dir.
-fn mesh(name: &str, dim: usize, geo: &str) -> (std::path::PathBuf, String) {
+fn mesh(name: &str, dim: usize, geo: &str) -> (Scratch, String) {
     let dir = scratch(name);
     let msh = dir.join("mesh.msh");
     let run = Command::new("gmsh")

@@ -19,7 +19,7 @@ fn run(
     limit_kb: Option<u64>,
     seconds: u64,
     args: &[&str],
-) -> (Run, std::path::PathBuf) {
+) -> (Run, Scratch) {
     let dir = scratch(name);
     let (rep, csv) = (dir.join("report.json"), dir.join("contact.csv"));
     let (mut cmd, _session) = mpi_command("timeout");

@@ -620,6 +620,7 @@ mod tests {
         // An absolute path or one found here: nothing to add.
         assert_eq!(hint_from("x", &sc, &sc), "");
         assert_eq!(hint_from("x", &sc, "Cargo.toml"), "");
+        let _ = std::fs::remove_dir_all(&d);
     }
 
     /// Overrides the user probably did not mean are named (a file that

@@ -48,8 +48,10 @@ pub fn python() -> String {
         .clone()
 }
 
-/// A fresh scratch directory for one test.
-pub fn scratch(name: &str) -> PathBuf {
+/// A fresh scratch directory for one test, removed when the guard is
+/// dropped unless the test is failing (a panicking test keeps its files to
+/// look at). Derefs to its path.
+pub fn scratch(name: &str) -> Scratch {
     // Unique per call: two tests of one binary (one process) that ask for
     // the same name at once (the converged reference of one scene) must not
     // remove each other's directory (seen in CI: "cannot write
@@ -59,13 +61,38 @@ pub fn scratch(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("ubr-test-{}-{}-{call}", name, std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
-    d
+    Scratch(d)
+}
+
+/// A test's scratch directory (see [`scratch`]): every run of the suite
+/// left some thirty of them in the temporary folder before.
+pub struct Scratch(PathBuf);
+
+impl std::ops::Deref for Scratch {
+    type Target = PathBuf;
+    fn deref(&self) -> &PathBuf {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
 }
 
 /// A 2D Gmsh scene meshed into a fresh scratch directory: `geo` (relative
 /// to the repository) into `<scratch>/<stem>.msh`, format 2.2. Returns the
 /// directory and the mesh's path.
-pub fn gmsh_2d(name: &str, geo: &str) -> (PathBuf, String) {
+pub fn gmsh_2d(name: &str, geo: &str) -> (Scratch, String) {
     let dir = scratch(name);
     let stem = Path::new(geo).file_stem().unwrap().to_str().unwrap();
     let msh = dir.join(format!("{stem}.msh"));

@@ -6,19 +6,42 @@ use super::*;
 use std::path::PathBuf;
 use std::process::Command;
 
-/// A fresh directory for this test's files.
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("ubr-meshobs-{}-{name}", std::process::id()));
+/// A fresh directory for this test's files, removed when dropped unless
+/// the test is failing (its files are kept to look at).
+fn tmp(name: &str) -> Tmp {
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let d = std::env::temp_dir().join(format!("ubr-meshobs-{}-{call}-{name}", std::process::id()));
     std::fs::create_dir_all(&d).expect("temp dir");
-    d
+    Tmp(d)
 }
 
-/// Meshes `tests/obstacles/{geo}` with `gmsh -{mdim} -format {format}`.
-fn gmsh(geo: &str, mdim: usize, format: &str, h: f64) -> PathBuf {
+/// See [`tmp`].
+struct Tmp(PathBuf);
+
+impl std::ops::Deref for Tmp {
+    type Target = PathBuf;
+    fn deref(&self) -> &PathBuf {
+        &self.0
+    }
+}
+
+impl Drop for Tmp {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
+/// Meshes `tests/obstacles/{geo}` with `gmsh -{mdim} -format {format}`:
+/// the directory and the mesh's path.
+fn gmsh(geo: &str, mdim: usize, format: &str, h: f64) -> (Tmp, PathBuf) {
     let src = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/obstacles")
         .join(geo);
-    let out = tmp(&format!("{geo}-{format}-{h}")).join("surface.msh");
+    let dir = tmp(&format!("{geo}-{format}-{h}"));
+    let out = dir.join("surface.msh");
     let run = Command::new("gmsh")
         .arg(&src)
         .arg(format!("-{mdim}"))
@@ -27,7 +50,7 @@ fn gmsh(geo: &str, mdim: usize, format: &str, h: f64) -> PathBuf {
         .output()
         .expect("gmsh runs (apt-get install gmsh)");
     assert!(run.status.success() && out.exists(), "gmsh failed on {geo}");
-    out
+    (dir, out)
 }
 
 fn message(r: Result<MeshObstacle, Error>) -> String {
@@ -264,7 +287,7 @@ fn check_against_unit_ball(ob: &MeshObstacle, eps: f64, max_angle: f64, dim: usi
 #[test]
 fn gmsh_sphere_against_exact_sphere() {
     for format in ["msh41", "msh22"] {
-        let path = gmsh("sphere.geo", 2, format, 0.15);
+        let (_dir, path) = gmsh("sphere.geo", 2, format, 0.15);
         let ob = MeshObstacle::read(&path, 3).unwrap();
         ob.require_closed().unwrap();
         let (rc, eps) = sphere_chordal_error(&ob);
@@ -298,7 +321,7 @@ fn circle_chordal_error(ob: &MeshObstacle) -> (f64, f64) {
 #[test]
 fn gmsh_circle_counter_clockwise_is_a_disc() {
     for format in ["msh41", "msh22"] {
-        let path = gmsh("circles.geo", 1, format, 0.1);
+        let (_dir, path) = gmsh("circles.geo", 1, format, 0.1);
         let rim = MeshObstacle::read_group(&path, 2, Some("rim")).unwrap();
         rim.require_closed().unwrap();
         let (half, eps) = circle_chordal_error(&rim);
@@ -452,7 +475,8 @@ fn stl_and_quadrilaterals_read_as_the_cube() {
 
 /// The message of reading `text` as the surface of a `dim`-D obstacle.
 fn read_error(text: &str, dim: usize) -> String {
-    let path = tmp("bad").join(format!("bad-{:x}.msh", text.len() * 31 + dim));
+    let dir = tmp("bad");
+    let path = dir.join(format!("bad-{:x}.msh", text.len() * 31 + dim));
     std::fs::write(&path, text).unwrap();
     let e = message(MeshObstacle::read(&path, dim));
     assert_eq!(e.lines().count(), 1, "{e}");
@@ -498,7 +522,8 @@ fn file_errors_name_the_file_and_line() {
         "{e}"
     );
     // The geometry instead of its mesh.
-    let geo = tmp("bad").join("floor.geo");
+    let dir = tmp("floor");
+    let geo = dir.join("floor.geo");
     std::fs::write(&geo, "Point(1) = {0, 0, 0};\n").unwrap();
     let e = message(MeshObstacle::read(&geo, 3));
     assert!(
@@ -608,7 +633,7 @@ fn time_queries(ob: &MeshObstacle, probes: &[Vec<f64>]) -> (std::time::Duration,
 
 #[test]
 fn timing_1e5_queries_on_2e4_triangles() {
-    let path = gmsh("sphere.geo", 2, "msh41", 0.038);
+    let (_dir, path) = gmsh("sphere.geo", 2, "msh41", 0.038);
     let t0 = std::time::Instant::now();
     let ob = MeshObstacle::read(&path, 3).unwrap();
     let read = t0.elapsed();
