@@ -10,14 +10,16 @@ use crate::comm::{allreduce_count, allreduce_max, allreduce_sum};
 use crate::contact::{interior, ContactSet};
 use crate::error::{bad, Error};
 use crate::mesh::{self, distribute, distribute::LocalMesh};
-use crate::options::{self, unused::Unused, Algorithm, Friction, Partitioner, Settings};
+use crate::options::{
+    self, unused::Unused, Algorithm, Friction, Partitioner, Settings, TrescaBound,
+};
 use crate::petsc::{self, Events, Stages};
 use crate::progress;
 use crate::report::{self, files, ContactRow, Results, Times, Totals};
 use crate::solver::outcome::{self, Method, Solved};
 use crate::solver::surface::UbrState;
 use crate::solver::ubr::UbrOutcome;
-use crate::solver::{penalty, ContactTerms, Problem};
+use crate::solver::{penalty, Assembled, ContactTerms, Problem};
 use crate::touching;
 use crate::wellposed::{self, Restraint};
 use mpi::traits::*;
@@ -543,39 +545,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             )
         });
         let assembled = Problem::assemble(world, local, s, cs, dirichlet, terms, r0, &self.stages)?;
-        // Can the contact (frictionless, or within Coulomb's cone) balance
-        // the loads on the motions no Dirichlet condition holds?
-        // The checks: the friction law's (frictionless, or Coulomb's cone;
-        // none for a Tresca bound), and where a frictionless solve makes
-        // the Tresca bound of a body only friction holds, that solve's.
-        let bound = wellposed::frictionless_bound_refusal(restraint, s);
-        let mut checks = match s.friction {
-            Friction::None => vec![(None, false)],
-            Friction::Coulomb => vec![(Some(s.friction_coefficient), false)],
-            Friction::Tresca => vec![],
-        };
-        if bound.is_some() {
-            checks.push((None, true));
-        }
-        for (coulomb, for_bound) in checks {
-            let cs = &assembled.contact;
-            // A failure of the bound's check is named as the bound's.
-            let refusal = bound.as_deref().filter(|_| for_bound);
-            // A history: the loads its steps apply (not the whole load,
-            // which it may never apply).
-            match (&s.history, assembled.load_parts()) {
-                (Some(h), Some((parts, rest))) => {
-                    let steps = history::steps_to_check(h, rest);
-                    wellposed::check_steps(
-                        world, local, restraint, cs, &parts, &steps, coulomb, refusal,
-                    )?;
-                }
-                _ => {
-                    let load = assembled.load.read(|f| f.to_vec())?;
-                    wellposed::check_loads(world, local, restraint, cs, &load, coulomb, refusal)?;
-                }
-            }
-        }
+        self.judge_loads(local, restraint, &assembled)?;
         if assembled.matrix_mallocs != 0.0 {
             return Err(Error::Internal(format!(
                 "{} mallocs during matrix assembly: preallocation is wrong",
@@ -589,6 +559,85 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         self.times.assembly = problem.time_assembly;
         self.times.factorization = problem.time_factorization;
         Ok(problem)
+    }
+
+    /// Can the contact (frictionless, within Coulomb's cone, or within a
+    /// Tresca bound given before the solve) balance the loads on the
+    /// motions no Dirichlet condition holds? A history: the loads its
+    /// steps apply (not the whole load, which it may never apply).
+    fn judge_loads(
+        &self,
+        local: &LocalMesh,
+        restraint: &Restraint,
+        assembled: &Assembled,
+    ) -> Result<(), Error> {
+        let (world, s) = (self.world, &self.settings);
+        let cs = &assembled.contact;
+        let whole;
+        let history = s.history.as_ref().zip(assembled.load_parts());
+        let (parts, steps) = match &history {
+            Some((h, (parts, rest))) => (parts.clone(), history::steps_to_check(h, *rest, true)),
+            None => {
+                whole = assembled.load.read(|f| f.to_vec())?;
+                let step = wellposed::LoadStep {
+                    label: None,
+                    coefs: vec![1.0],
+                };
+                (vec![&whole[..]], vec![step])
+            }
+        };
+        // The checks: the friction law's (frictionless, or Coulomb's cone;
+        // a Tresca bound below), and where a frictionless solve makes the
+        // Tresca bound of a body only friction holds, that solve's.
+        let judged = wellposed::Judged {
+            world,
+            mesh: local,
+            restraint,
+            cs,
+            parts: &parts,
+            steps: &steps,
+        };
+        let bound = wellposed::frictionless_bound_refusal(restraint, s);
+        let mut checks = match s.friction {
+            Friction::None => vec![(None, false)],
+            Friction::Coulomb => vec![(Some(s.friction_coefficient), false)],
+            Friction::Tresca => vec![],
+        };
+        if bound.is_some() {
+            checks.push((None, true));
+        }
+        for (coulomb, for_bound) in checks {
+            // A failure of the bound's check is named as the bound's.
+            let refusal = bound.as_deref().filter(|_| for_bound);
+            wellposed::check_steps(&judged, coulomb, refusal)?;
+        }
+        // A Tresca bound known before the solve: its total against the
+        // tangential load.
+        let tresca = match (s.friction, s.tresca_bound) {
+            (Friction::Tresca, Some(TrescaBound::Value(v))) => {
+                Some((vec![v; cs.len()], "raise -tresca_bound"))
+            }
+            (Friction::Tresca, Some(TrescaBound::Hertz)) => Some((
+                outcome::hertz_bound(
+                    world,
+                    local,
+                    cs,
+                    s.reference.as_ref().expect("checked with the options"),
+                    s.friction_coefficient,
+                    s.e_star(local.dim),
+                ),
+                "raise -friction_coefficient",
+            )),
+            _ => None,
+        };
+        if let Some((bound, raise)) = tresca {
+            // Every step: the bound holds a load up to a size.
+            let every = history.map(|(h, (_, rest))| history::steps_to_check(h, rest, false));
+            let steps = every.as_deref().unwrap_or(&steps);
+            let judged = wellposed::Judged { steps, ..judged };
+            wellposed::check_tresca(&judged, &bound, raise)?;
+        }
+        Ok(())
     }
 
     /// RChoice stage: r from the spectrum of the contact compliance (auto),

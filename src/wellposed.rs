@@ -26,7 +26,7 @@ use pairs::{joined, pair_bodies};
 
 mod loads;
 mod pairs;
-pub use loads::{check_loads, check_steps, LoadStep, MAX_CHECKED_STEPS};
+pub use loads::{check_steps, check_tresca, Judged, LoadStep, MAX_CHECKED_STEPS};
 
 /// A mode is free when its eigenvalue of the constraint Gram matrix is below
 /// this fraction of the matrix's trace (exactly free modes sit at round-off,
@@ -543,7 +543,7 @@ fn free_motion(bodies: &Bodies, b: usize, free: &[Vec<f64>]) -> String {
 /// contact holds the loads, i.e. where they do no work along the motions
 /// only friction holds (a body free along x, pressed straight down, has
 /// one: the x motion is then arbitrary). The message refusing such a scene
-/// where the loads do work along them ([`crate::wellposed::check_loads`]
+/// where the loads do work along them ([`crate::wellposed::check_steps`]
 /// without friction decides); None where no frictionless solve is made or
 /// every motion is held without friction. CF-FP's default start needs no
 /// such solve: it sticks first ([`Restraint::friction_held`]).

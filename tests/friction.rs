@@ -451,3 +451,24 @@ fn a_quarter_that_rolls_is_solved() {
         }
     }
 }
+
+/// The Hertz quarter held by uy = 0 on its cut and by friction alone along
+/// x, Tresca s = 22 (a total of 274 over its 68 candidates) under a
+/// sideways load of 240: on one rank Anderson's iterates drifted and the
+/// plain iteration from their best point, itself drifting, stalled (exit
+/// 3, "every one of the 31 contact nodes slips"), where s = 20 and 25
+/// converged; the plain iteration now starts again from the run's start.
+/// 1, 2 and 3 ranks agree with a tight run.
+#[test]
+fn a_tresca_bound_just_above_the_load_is_solved() {
+    let args = |extra: &[&'static str]| hertz_tresca_sideways("22", extra);
+    let tight = args(&["-ubr_r", "500", "-ubr_lambda_rtol", "1e-9"]);
+    let (run, rep, reference) = solve_rows("s22 tight", 1, &tight);
+    assert!(rep.converged, "{}", run.stdout);
+    for ranks in [1, 2, 3] {
+        let (run, rep, rows) = solve_rows("s22", ranks, &args(&[]));
+        assert!(rep.converged, "{ranks} ranks: {}", run.context());
+        let gap = max_stress_gap(&rows, &reference);
+        assert!(gap <= 1e-3, "{ranks} ranks: error {gap:.2e}");
+    }
+}

@@ -657,7 +657,8 @@ fn bad_histories_are_refused() {
 /// not the whole load (which a history may never apply): a pulling
 /// traction applied by negative factors presses the body and is solved;
 /// a step that pulls the body off is refused (exit 2) and named, on every
-/// rank count. A history that stops early still names its curve's columns.
+/// rank count, also with a Tresca bound. A history that stops early still
+/// names its curve's columns.
 #[test]
 fn history_steps_are_judged_by_their_own_loads() {
     let dir = scratch("history-steps-judged");
@@ -685,8 +686,17 @@ fn history_steps_are_judged_by_their_own_loads() {
             format!("load step 2/2 (-load_history {t} -1.0000): the loads pull the body off");
         run.refused("a step that pulls off", 2, &[&step]);
     }
-    // Tresca (not judged before): the step fails, and the table of the
-    // step before it names the curve.
+    // So with a Tresca bound (it ran step 2 to exit 3 before).
+    let run = mpirun(
+        2,
+        &["-options_file", "options/hertz-tresca", "-load_history", t],
+    );
+    let step = format!("load step 2/2 (-load_history {t} -1.0000): the loads pull the body off");
+    run.refused("a Tresca step that pulls off", 2, &[&step]);
+    // A step whose solve fails (a factor beyond double precision): the
+    // table of the step before it names the curve.
+    let huge = dir.join("huge.csv");
+    std::fs::write(&huge, "step,factor\n1,1\n2,1e300\n").unwrap();
     let out = dir.join("tresca.csv");
     let run = mpirun(
         2,
@@ -694,13 +704,17 @@ fn history_steps_are_judged_by_their_own_loads() {
             "-options_file",
             "options/hertz-tresca",
             "-load_history",
-            t,
+            huge.to_str().unwrap(),
             "-history_output",
             out.to_str().unwrap(),
         ],
     );
     assert_eq!(run.status, Some(3), "{}", run.context());
-    assert!(run.stderr.contains("load step 2/2"), "{}", run.context());
+    assert!(
+        run.stderr.contains("load step 2/2") && run.stderr.contains("non-finite iterate"),
+        "{}",
+        run.context()
+    );
     // Its summary shows no answer (the zero start) and says so.
     assert!(
         run.stdout

@@ -354,3 +354,81 @@ fn nothing_touching_is_measured_against_the_loads() {
         );
     }
 }
+
+/// A Tresca bound given before the solve, against the loads, where the
+/// contact alone holds the quarter along x and y (a plane obstacle): a
+/// sideways load above the bound's total `sum s w` (s = 5 over the 69
+/// candidates: 62.83 against 80) is refused before the factorization on
+/// every rank count, naming the total and the option that raises it (it
+/// ran 801 iterations to exit 3); so is a bound from Hertz' pressure
+/// (nu_f 0.3: 243.3 against 320), naming the coefficient; a load that
+/// pulls the body off (97 iterations to exit 3 before); and the step of a
+/// history that exceeds it (-load_steps 2: 40, then 80). Within the total
+/// the run goes on and converges.
+#[test]
+fn a_tresca_bound_is_measured_against_the_loads() {
+    let scene = |load: &'static str, extra: &[&'static str]| {
+        let mut v = vec!["-friction", "tresca"];
+        v.extend_from_slice(extra);
+        common::hertz_free_x("meshes/hertz_1692.msh", load, &v)
+    };
+    let total =
+        "exceeds what the Tresca bound can hold, the sum of s w over the 69 contact candidates";
+    for ranks in [1, 2, 3] {
+        let run = mpirun(ranks, &scene("10,-100", &["-tresca_bound", "5"]));
+        run.refused(
+            &format!("bound 5, {ranks} ranks"),
+            2,
+            &[
+                "tangential load 8.0000e1",
+                total,
+                "= 6.283",
+                "raise -tresca_bound",
+            ],
+        );
+    }
+    let hertz = [
+        "-tresca_bound",
+        "hertz",
+        "-friction_coefficient",
+        "0.3",
+        "-reference",
+        "hertz",
+        "-reference_force",
+        "1600",
+        "-reference_radius",
+        "8",
+    ];
+    let run = mpirun(2, &scene("40,-100", &hertz));
+    run.refused(
+        "Hertz bound",
+        2,
+        &[
+            "tangential load 3.2000e2",
+            total,
+            "raise -friction_coefficient",
+        ],
+    );
+    let run = mpirun(2, &scene("0,100", &["-tresca_bound", "5"]));
+    run.refused(
+        "pulled off",
+        2,
+        &["the loads pull the body off the obstacle"],
+    );
+    let run = mpirun(
+        2,
+        &scene("10,-100", &["-tresca_bound", "5", "-load_steps", "2"]),
+    );
+    run.refused(
+        "history",
+        2,
+        &["load step 2/2", "tangential load 8.0000e1", total],
+    );
+    let (run, rep, _) = solve_rows("within", 2, &scene("5,-100", &["-tresca_bound", "10"]));
+    assert!(rep.converged, "{}", run.context());
+    assert!(
+        (rep.tangential_force[0] - 40.0).abs() <= 1e-6 * 800.0,
+        "{}",
+        run.stdout
+    );
+}

@@ -402,8 +402,9 @@ impl<C: Communicator> ContactProblem<'_, C> {
 /// ([`crate::wellposed::check_steps`]): one per direction of the factors
 /// (a positive multiple of a load is held as it is; the rest's factor 1
 /// appended where `rest`), the first [`MAX_CHECKED_STEPS`] directions,
-/// named as the step's solve is.
-pub(super) fn steps_to_check(h: &LoadHistory, rest: bool) -> Vec<LoadStep> {
+/// named as the step's solve is. Not `distinct`: every step (a Tresca
+/// bound holds a load up to a size, [`crate::wellposed::check_tresca`]).
+pub(super) fn steps_to_check(h: &LoadHistory, rest: bool, distinct: bool) -> Vec<LoadStep> {
     let n = h.factors.len();
     let mut seen = HashSet::new();
     let mut out = Vec::new();
@@ -420,7 +421,7 @@ pub(super) fn steps_to_check(h: &LoadHistory, rest: bool) -> Vec<LoadStep> {
             .iter()
             .map(|x| (x / big * 1e12).round() as i64)
             .collect();
-        if !seen.insert(key) {
+        if distinct && !seen.insert(key) {
             continue;
         }
         let label = format!("load step {}/{n} ({} {})", k + 1, h.source, fmt_factors(f));
@@ -428,7 +429,7 @@ pub(super) fn steps_to_check(h: &LoadHistory, rest: bool) -> Vec<LoadStep> {
             label: Some(label),
             coefs,
         });
-        if out.len() == MAX_CHECKED_STEPS {
+        if distinct && out.len() == MAX_CHECKED_STEPS {
             break;
         }
     }
@@ -472,7 +473,7 @@ mod tests {
             source: "-load_history h.csv".into(),
             curve: None,
         };
-        let steps = steps_to_check(&h, false);
+        let steps = steps_to_check(&h, false, true);
         let labels: Vec<_> = steps.iter().map(|s| s.label.clone().unwrap()).collect();
         assert_eq!(
             labels,
@@ -482,8 +483,14 @@ mod tests {
             ]
         );
         // With the rest at factor 1, each step's factors are a direction.
-        let steps = steps_to_check(&h, true);
+        let steps = steps_to_check(&h, true, true);
         assert_eq!(steps.len(), 5);
         assert_eq!(steps[2].coefs, [0.0, 1.0]);
+        // Every step where a bound holds a load up to a size (Tresca),
+        // the zero one left out.
+        let steps = steps_to_check(&h, false, false);
+        let labels: Vec<_> = steps.iter().map(|s| s.label.clone().unwrap()).collect();
+        assert_eq!(labels.len(), 4);
+        assert_eq!(labels[1], "load step 2/5 (-load_history h.csv 1.0000)");
     }
 }

@@ -6,6 +6,7 @@ use super::Results;
 use crate::solver::outcome::Method;
 use crate::solver::penalty;
 use crate::solver::stopping::StopRule;
+use crate::solver::ubr::UbrOutcome;
 
 /// "(1.5e0, -2.0e-3)": a vector for the summary.
 fn vector(v: &[f64]) -> String {
@@ -134,10 +135,31 @@ fn header(m: &Results) {
                 .map_or(String::new(), |rho| format!(", density = {}", given(rho)))
         );
     }
-    if s.friction != crate::options::Friction::None {
-        println!("  friction        nu_f = {}", given(s.friction_coefficient));
+    if let Some(line) = friction_line(s) {
+        println!("  friction        {line}");
     }
     println!("  linear solver   {}", m.problem.lin.description);
+}
+
+/// The friction law and its data: Coulomb's coefficient, or the Tresca
+/// bound s (a constant bound given with `-tresca_bound VALUE` has no
+/// coefficient: "nu_f = 0" said nothing of it).
+fn friction_line(s: &crate::options::Settings) -> Option<String> {
+    use crate::options::{Friction, TrescaBound};
+    let nu = given(s.friction_coefficient);
+    match (s.friction, s.tresca_bound) {
+        (Friction::None, _) => None,
+        (Friction::Coulomb, _) => Some(format!("Coulomb, nu_f = {nu}")),
+        (Friction::Tresca, Some(TrescaBound::Value(v))) => {
+            Some(format!("Tresca, bound s = {} at every candidate", given(v)))
+        }
+        (Friction::Tresca, Some(TrescaBound::Hertz)) => Some(format!(
+            "Tresca, bound s = nu_f times Hertz' pressure, nu_f = {nu}"
+        )),
+        (Friction::Tresca, _) => Some(format!(
+            "Tresca, bound s = nu_f times the pressure of a frictionless solve, nu_f = {nu}"
+        )),
+    }
 }
 
 /// Where r came from, for the summary.
@@ -220,16 +242,27 @@ fn algorithm(m: &Results) {
                 } else {
                     ""
                 },
-                match (res.last.anderson_retreats, res.fixed_point_iterations) {
-                    (0, _) => String::new(),
-                    (_, 0) => "; its iterates drifted or stalled: the plain iteration from the best of them".into(),
-                    (1, _) => "; in one Tresca solve the iterates drifted or stalled: the plain iteration from the best of them".into(),
-                    (n, _) => format!("; in {n} Tresca solves the iterates drifted or stalled: the plain iteration from the best of them"),
-                }
+                retreat_words(&res.last, res.fixed_point_iterations)
             );
         } else {
             println!("  Anderson        off (-ubr_anderson 0: the paper's plain iteration)");
         }
+    }
+}
+
+/// Anderson's retreats to the plain iteration (and the plain iteration's
+/// restarts from the start), for the Anderson line.
+fn retreat_words(last: &UbrOutcome, fixed_point_iterations: usize) -> String {
+    let then = match last.plain_restarts {
+        0 => "",
+        _ => ", and where that drifted or stalled too, from the start",
+    };
+    let best = format!("the plain iteration from the best of them{then}");
+    match (last.anderson_retreats, fixed_point_iterations) {
+        (0, _) => String::new(),
+        (_, 0) => format!("; its iterates drifted or stalled: {best}"),
+        (1, _) => format!("; in one Tresca solve the iterates drifted or stalled: {best}"),
+        (n, _) => format!("; in {n} Tresca solves the iterates drifted or stalled: {best}"),
     }
 }
 

@@ -122,7 +122,7 @@ fn fixed_point<C: Communicator>(
     let mut floors = Floors::default();
     // Consecutive fixed-point iterations whose change of s is round-off.
     let mut flat = 0;
-    let (mut halving, mut retreats) = (Halving::default(), 0);
+    let (mut halving, mut retreats) = (Halving::default(), [0, 0]);
     for m in 0..fp_max_it {
         let (mut inner, full_tolerance) = floors.control(ctl, m, paper);
         // A step of s that can still be halved is, before the plain
@@ -148,7 +148,7 @@ fn fixed_point<C: Communicator>(
         };
         let (at_floor, stalled) = floors.judge(&run, ctl, paper);
         out.inner_iterations += run.iterations;
-        retreats += run.anderson_retreats;
+        run.count_retreats(&mut retreats);
         out.fixed_point_iterations = m + 1;
         // (Two solves in a row at their floor: no bound would do better.)
         if stalled && !at_floor && halving.back(world, &mut s, state, &mut outer, ctl.monitor)? {
@@ -213,7 +213,7 @@ fn fixed_point<C: Communicator>(
     if !out.converged && out.failure.is_none() {
         out.failure = Some(cap_message(&out, paper, fp_rtol, ctl.lambda_rtol, flat));
     }
-    out.last.anderson_retreats = retreats;
+    [out.last.anderson_retreats, out.last.plain_restarts] = retreats;
     Ok(out)
 }
 

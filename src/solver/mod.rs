@@ -158,7 +158,7 @@ pub enum ContactTerms {
 
 /// What the Assembly stage builds: `K + r B^T W B` with the Dirichlet rows
 /// and columns eliminated, the load f and the lifted right-hand side
-/// `f - A x_D`; the load can be judged ([`crate::wellposed::check_loads`])
+/// `f - A x_D`; the load can be judged ([`crate::wellposed::check_steps`])
 /// before [`Problem::factorize`].
 pub struct Assembled {
     matrix: Matrix,

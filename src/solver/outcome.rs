@@ -151,7 +151,7 @@ pub fn control(settings: &Settings) -> ubr::UbrControl {
 /// The Tresca bound from `-tresca_bound hertz`: nu_f times the Hertz pressure
 /// at each owned candidate, centred as the reference says (default: the
 /// candidate with the smallest gap over all ranks).
-fn hertz_bound<C: Communicator>(
+pub fn hertz_bound<C: Communicator>(
     world: &C,
     local: &LocalMesh,
     cs: &ContactSet,

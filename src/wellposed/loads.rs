@@ -1,9 +1,10 @@
 //! Can the contact hold the loads? The check before the factorization
-//! ([`check_loads`]): the loads' work on the rigid motions that only the
+//! ([`check_steps`]): the loads' work on the rigid motions that only the
 //! contact holds must lie in the cone of the contact forces (frictionless:
 //! pushes; Coulomb: within the friction cone), a non-negative
 //! least-squares problem on rank 0; with a load history, at each step's
-//! load ([`check_steps`]).
+//! load. A Tresca bound given before the solve: its total against the
+//! tangential load ([`check_tresca`]).
 
 use super::Restraint;
 use crate::comm::{allreduce_sum_vec, Layout};
@@ -16,6 +17,30 @@ use nalgebra::DMatrix;
 /// Rays of the polygonal friction cone in 3D (the circular cone lies
 /// between the polygon through the rays and the one around them).
 const CONE_RAYS: usize = 16;
+
+/// The most distinct load directions of a history [`check_steps`] judges
+/// (each a small non-negative least-squares problem on rank 0): a history
+/// of a million steps in as many directions is judged on its first ones.
+pub const MAX_CHECKED_STEPS: usize = 10_000;
+
+/// One load to judge: `sum_p coefs[p] parts[p]`, named by `label` (a load
+/// step) in the message.
+pub struct LoadStep {
+    pub label: Option<String>,
+    pub coefs: Vec<f64>,
+}
+
+/// The loads to judge and what may hold them: the mesh, the rigid motions
+/// that no Dirichlet condition holds, the contact candidates, and the load
+/// `parts` (per owned dof) that each of `steps` combines.
+pub struct Judged<'a, C> {
+    pub world: &'a C,
+    pub mesh: &'a LocalMesh,
+    pub restraint: &'a Restraint,
+    pub cs: &'a ContactSet,
+    pub parts: &'a [&'a [f64]],
+    pub steps: &'a [LoadStep],
+}
 
 /// Can the contact hold the loads? Along the rigid motions that no
 /// Dirichlet condition restrains (`K v_j = 0`), every solution balances the
@@ -35,63 +60,29 @@ const CONE_RAYS: usize = 16;
 /// obstacle, or push it along harder than friction can hold, an
 /// ill-posed scene named now (exit 2) rather than met as a drift of
 /// thousands of iterations. With `coulomb` None the friction is taken as
-/// absent (frictionless contact; a Tresca bound is not checked here).
+/// absent (frictionless contact; a Tresca bound: [`check_tresca`]).
 /// `refusal`: the message of a failure in place of the check's own (the
 /// frictionless solve behind a Tresca bound,
 /// [`crate::wellposed::frictionless_bound_refusal`]).
-pub fn check_loads<C: Communicator>(
-    world: &C,
-    mesh: &LocalMesh,
-    restraint: &Restraint,
-    cs: &ContactSet,
-    load: &[f64],
+///
+/// At each of `steps` (combinations of the load `parts`, per owned dof),
+/// the first that the contact cannot hold named: a load history applies
+/// its steps' loads, not the whole load at once (which may never be
+/// applied: a table of negative factors of a pulling load). The loads'
+/// work on the motions and the contact's columns are made once.
+pub fn check_steps<C: Communicator>(
+    judged: &Judged<C>,
     coulomb: Option<f64>,
     refusal: Option<&str>,
 ) -> Result<(), Error> {
-    let whole = [LoadStep {
-        label: None,
-        coefs: vec![1.0],
-    }];
-    check_steps(
+    let &Judged {
         world,
         mesh,
         restraint,
         cs,
-        &[load],
-        &whole,
-        coulomb,
-        refusal,
-    )
-}
-
-/// The most distinct load directions of a history [`check_steps`] judges
-/// (each a small non-negative least-squares problem on rank 0): a history
-/// of a million steps in as many directions is judged on its first ones.
-pub const MAX_CHECKED_STEPS: usize = 10_000;
-
-/// One load to judge: `sum_p coefs[p] parts[p]`, named by `label` (a load
-/// step) in the message.
-pub struct LoadStep {
-    pub label: Option<String>,
-    pub coefs: Vec<f64>,
-}
-
-/// [`check_loads`] at each of `steps` (combinations of the load `parts`,
-/// per owned dof), the first that the contact cannot hold named: a load
-/// history applies its steps' loads, not the whole load at once (which
-/// may never be applied: a table of negative factors of a pulling load).
-/// The loads' work on the motions and the contact's columns are made once.
-#[allow(clippy::too_many_arguments)]
-pub fn check_steps<C: Communicator>(
-    world: &C,
-    mesh: &LocalMesh,
-    restraint: &Restraint,
-    cs: &ContactSet,
-    parts: &[&[f64]],
-    steps: &[LoadStep],
-    coulomb: Option<f64>,
-    refusal: Option<&str>,
-) -> Result<(), Error> {
+        parts,
+        steps,
+    } = judged;
     let modes = &restraint.contact_held;
     let k = modes.len();
     if k == 0 || steps.is_empty() {
@@ -271,30 +262,16 @@ fn ill_posed(
     coulomb: Option<f64>,
     residual: f64,
 ) -> String {
-    let (modes, bodies) = (&restraint.contact_held, &restraint.bodies);
     let nu = coulomb.unwrap_or(0.0);
     let fmt = |v: f64| format!("{v:.4e}");
-    let hint = "check the signs of the loads, the contact direction (-contact_direction points from the body toward the obstacle) and the obstacle's position";
     // The resultant speaks plainly where the contact alone holds every
     // translation of a single body: N = F.n must push, |F_t| <= nu_f N.
     // (With normals of their own, the candidates have no one direction.)
-    let translations_free = n.is_some()
-        && bodies.len() == 1
-        && (0..d).all(|c| {
-            let p2: f64 = modes.iter().map(|m| m.coef[c] * m.coef[c]).sum();
-            p2 > 1.0 - 1e-8
-        });
+    let translations_free = translations_free(restraint, n, d);
     let n = n.unwrap_or(&[0.0; 3][..d]);
-    let f_n: f64 = (0..d).map(|c| resultant[c] * n[c]).sum();
-    let f_t = (0..d)
-        .map(|c| (resultant[c] - f_n * n[c]).powi(2))
-        .sum::<f64>()
-        .sqrt();
+    let (f_n, f_t) = normal_and_tangential(resultant, n);
     if translations_free && f_n <= 0.0 {
-        format!(
-            "the loads pull the body off the obstacle: their resultant along the contact direction is {} (it must push the body onto the obstacle, > 0), and nothing else holds the body; {hint}",
-            fmt(f_n)
-        )
+        pulled_off(f_n)
     } else if translations_free && coulomb.is_some() && f_t > nu * f_n {
         format!(
             "the tangential load {} exceeds nu_f N = {} x {} = {}: friction cannot hold the body (no Dirichlet condition holds it along the obstacle); lower the tangential load, raise -friction_coefficient, or add a Dirichlet condition",
@@ -305,15 +282,147 @@ fn ill_posed(
         )
     } else if coulomb.is_some() {
         format!(
-            "the contact cannot hold the loads: along the rigid motions that no Dirichlet condition restrains, no contact forces within the friction cone (|lambda_t| <= nu_f lambda_n = {nu} lambda_n) balance them (relative residual {:.2}), so the body slides, tips or lifts off; lower the loads, raise -friction_coefficient, or add a Dirichlet condition; {hint}",
+            "the contact cannot hold the loads: along the rigid motions that no Dirichlet condition restrains, no contact forces within the friction cone (|lambda_t| <= nu_f lambda_n = {nu} lambda_n) balance them (relative residual {:.2}), so the body slides, tips or lifts off; lower the loads, raise -friction_coefficient, or add a Dirichlet condition; {HINT}",
             residual
         )
     } else {
         format!(
-            "the loads pull the body off the obstacle: along the motions that only the contact holds, no contact pressure (which can only push) balances them (relative residual {:.2}), so nothing holds the body; {hint}",
+            "the loads pull the body off the obstacle: along the motions that only the contact holds, no contact pressure (which can only push) balances them (relative residual {:.2}), so nothing holds the body; {HINT}",
             residual
         )
     }
+}
+
+const HINT: &str = "check the signs of the loads, the contact direction (-contact_direction points from the body toward the obstacle) and the obstacle's position";
+
+/// Whether the contact alone holds every translation of the single body
+/// and the candidates share one normal `n`: then the loads' resultant
+/// must be balanced by the contact forces' (along n pushes only).
+fn translations_free(restraint: &Restraint, n: Option<&[f64]>, d: usize) -> bool {
+    let (modes, bodies) = (&restraint.contact_held, &restraint.bodies);
+    n.is_some()
+        && bodies.len() == 1
+        && (0..d).all(|c| {
+            let p2: f64 = modes.iter().map(|m| m.coef[c] * m.coef[c]).sum();
+            p2 > 1.0 - 1e-8
+        })
+}
+
+/// The parts of `f` along the unit `n` and across it (its length).
+fn normal_and_tangential(f: &[f64], n: &[f64]) -> (f64, f64) {
+    let f_n: f64 = n.iter().zip(f).map(|(n, f)| n * f).sum();
+    let f_t = (n.iter().zip(f))
+        .map(|(n, f)| (f - f_n * n).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    (f_n, f_t)
+}
+
+/// The message of loads whose resultant `f_n` along the contact direction
+/// pulls the body off.
+fn pulled_off(f_n: f64) -> String {
+    format!(
+        "the loads pull the body off the obstacle: their resultant along the contact direction is {f_n:.4e} (it must push the body onto the obstacle, > 0), and nothing else holds the body; {HINT}"
+    )
+}
+
+/// Can a Tresca bound hold the loads? Where the candidates share the
+/// normal n (a plane obstacle) and the contact alone holds a translation
+/// `e` of the single body (no Dirichlet condition holds it), the loads'
+/// work along `e` is their resultant's part `F . e`, balanced by the
+/// contact forces alone: pressures along n, friction forces across it,
+/// each at most `w_i s_i` whether the node touches or not (the Tresca law
+/// bounds lambda_t by s alone). So where n is such a translation, F must
+/// push (F . n > 0); and F's part in the free tangential translations
+/// (those of the free ones across n) must be at most `sum_i w_i s_i`.
+/// Else no equilibrium exists, and the iteration drifted or stalled for
+/// hundreds of iterations before saying so (the Hertz quarter free along
+/// x at `-tresca_bound 5`, 63 in all, under a sideways load of 480: 637
+/// iterations to exit 3). A necessary condition only: the moments and
+/// curved obstacles are left to the iteration. `bound`: s at the owned
+/// candidates; `raise`: what raises it (the option). At each of `steps`,
+/// the first that fails named, as [`check_steps`].
+pub fn check_tresca<C: Communicator>(
+    judged: &Judged<C>,
+    bound: &[f64],
+    raise: &str,
+) -> Result<(), Error> {
+    let (world, mesh, restraint, cs) = (judged.world, judged.mesh, judged.restraint, judged.cs);
+    let d = mesh.dim;
+    let (Some(n), true) = (cs.common_normal(), restraint.bodies.len() == 1) else {
+        return Ok(());
+    };
+    let n = nalgebra::DVector::from_column_slice(&n[..d]);
+    let Some((normal_free, across)) = free_translations(restraint, &n) else {
+        return Ok(());
+    };
+    let k = restraint.contact_held.len();
+    // The resultant of each part (3 numbers each), then the capacity.
+    let mut sums: Vec<f64> = (judged.parts.iter())
+        .flat_map(|load| load_work(mesh, restraint, load).split_off(k))
+        .collect();
+    sums.push((0..cs.len()).map(|i| cs.w[i] * bound[i]).sum());
+    let sums = allreduce_sum_vec(world, &sums);
+    let (resultants, capacity) = sums.split_at(3 * judged.parts.len());
+    let capacity = capacity[0];
+    let candidates = crate::comm::allreduce_count(world, cs.len());
+    for step in judged.steps {
+        let f = nalgebra::DVector::from_column_slice(&combine(resultants, 3, &step.coefs)[..d]);
+        let (f_n, f_t) = (f.dot(&n), (&across * &f).norm());
+        let why = if normal_free && f_n < -1e-9 * f.norm() {
+            pulled_off(f_n)
+        } else if f_t > capacity * (1.0 + 1e-9) {
+            format!(
+                "the tangential load {f_t:.4e} exceeds what the Tresca bound can hold, the sum of s w over the {candidates} contact candidates = {capacity:.4e}: friction cannot hold the body (no Dirichlet condition holds it along the obstacle); lower the tangential load, {raise}, or add a Dirichlet condition"
+            )
+        } else {
+            continue;
+        };
+        return Err(Error::IllPosed(match &step.label {
+            Some(label) => format!("{label}: {why}"),
+            None => why,
+        }));
+    }
+    Ok(())
+}
+
+/// The translations that the contact alone holds (the single body's
+/// motions are orthonormal coefficients, translations first): whether n
+/// is one, and the projector onto those across n (the free translations
+/// orthogonal to n). None where no translation is free.
+fn free_translations(
+    restraint: &Restraint,
+    n: &nalgebra::DVector<f64>,
+) -> Option<(bool, DMatrix<f64>)> {
+    let d = n.len();
+    // G = sum_m t_m t_m^T (t_m: a motion's translation part) is the
+    // translations' block of the projector onto the motions: a
+    // translation e is free where e^T G e = 1.
+    let mut g = DMatrix::<f64>::zeros(d, d);
+    for m in &restraint.contact_held {
+        let t = nalgebra::DVector::from_column_slice(&m.coef[..d]);
+        g += &t * t.transpose();
+    }
+    let eig = nalgebra::SymmetricEigen::new(g);
+    let free: Vec<_> = (0..d)
+        .filter(|&j| eig.eigenvalues[j] > 1.0 - 1e-8)
+        .map(|j| eig.eigenvectors.column(j).into_owned())
+        .collect();
+    if free.is_empty() {
+        return None;
+    }
+    let mut p = DMatrix::<f64>::zeros(d, d);
+    for e in &free {
+        p += e * e.transpose();
+    }
+    // Those free translations orthogonal to n: orthogonal to P n.
+    let pn = &p * n;
+    let normal_free = pn.norm_squared() > 1.0 - 1e-8;
+    if pn.norm() > 1e-8 {
+        let q = &pn / pn.norm();
+        p -= &q * q.transpose();
+    }
+    Some((normal_free, p))
 }
 
 /// Unit tangents of the friction cone's rays around n: `t, -t` in 2D

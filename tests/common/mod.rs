@@ -343,6 +343,26 @@ pub fn hertz_free_x<'a>(mesh: &'a str, traction: &'a str, extra: &[&'a str]) -> 
     v
 }
 
+/// options/hertz held by `uy = 0` on its cut instead of `ux = 0`, pushed
+/// sideways by (30, -100) on its top (240 along x in all), with Tresca
+/// friction of the constant bound `bound`: friction alone holds it along x.
+pub fn hertz_tresca_sideways<'a>(bound: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec![
+        "-options_file",
+        "options/hertz",
+        "-traction_top",
+        "30,-100",
+        "-dirichlet_symmetry",
+        "uy=0",
+        "-friction",
+        "tresca",
+        "-tresca_bound",
+        bound,
+    ];
+    v.extend_from_slice(extra);
+    v
+}
+
 /// The Hertz scene with the paper's r and stopping test, Anderson-accelerated
 /// (`-ubr_anderson M` in `extra`; the paper's rho = 1.5 r is for the plain
 /// iteration only).

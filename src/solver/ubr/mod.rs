@@ -152,6 +152,9 @@ pub struct UbrOutcome {
     /// Runs whose Anderson iterates drifted or stalled, and went on plain
     /// (0 or 1; CF-FP's outcome: over all its Tresca solves).
     pub anderson_retreats: usize,
+    /// Of those, runs whose plain iteration drifted or stalled too and
+    /// started again from the run's start (0 or 1 per run).
+    pub plain_restarts: usize,
     /// Why the run stopped without converging (None: converged).
     pub failure: Option<String>,
     /// Stopped at round-off (the accuracy test, its residual flat at 1e-12
@@ -161,6 +164,15 @@ pub struct UbrOutcome {
     /// A run of [`UbrControl::defer_whole`]: what its whole displacement is
     /// made from (None: made already, or nothing to make).
     pub pending: Option<Pending>,
+}
+
+impl UbrOutcome {
+    /// Adds this run's Anderson retreats and plain restarts to `to` (the
+    /// counts over CF-FP's Tresca solves).
+    pub fn count_retreats(&self, to: &mut [usize; 2]) {
+        to[0] += self.anderson_retreats;
+        to[1] += self.plain_restarts;
+    }
 }
 
 /// The contact parts of a condensed run's last two right-hand sides and

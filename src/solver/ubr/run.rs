@@ -136,7 +136,7 @@ impl<'a, C: Communicator> Run<'a, C> {
             allreduce_max(world, b.iter().fold(0.0, |a: f64, &x| a.max(x))) == 0.0
         });
         let acc = Accuracy::new(ctl.lambda_rtol).seeded(seed).inexact(inexact);
-        let retreat = Retreat::new(&acc);
+        let retreat = Retreat::new(&acc, state, aa.is_some() && ctl.retreat);
         Ok(Run {
             world,
             lin,

@@ -9,8 +9,14 @@
 //! residual P flat at 0.143, while the plain iteration from the same bound
 //! converges in 1038 iterations). Such a run goes back to the evaluation of
 //! its smallest residual and goes on with the plain iteration, which
-//! converges wherever a solution exists (Koko 2010, Theorem 4.1); only where
-//! the plain iteration drifts or stalls too is the run stopped. (CF-FP
+//! converges wherever a solution exists (Koko 2010, Theorem 4.1). The best
+//! of Anderson's iterates may have drifted already, its residual flat (the
+//! Hertz quarter held by uy = 0 on its cut, free along x, Tresca s = 22,
+//! a sideways load of 240: P flat at 0.1254 from iteration 74, the plain
+//! iteration from its best at 169 flat too for 500 iterations, where the
+//! plain iteration from the start converges in 782): where the plain
+//! iteration drifts or stalls too, it starts again from the run's start,
+//! once, and only if that drifts or stalls is the run stopped. (CF-FP
 //! halves such a step of its bound first, which is cheaper:
 //! [`super::super::UbrControl::retreat`].)
 
@@ -19,6 +25,7 @@ use super::super::messages::r_far_words;
 use super::Run;
 use crate::error::Error;
 use crate::solver::stopping::{Accuracy, Progress};
+use crate::solver::surface::{SurfaceState, UbrState};
 use mpi::traits::*;
 
 /// The plain iterate after the evaluation of Anderson's smallest residual,
@@ -29,6 +36,12 @@ pub(super) struct Retreat {
     best_k: usize,
     /// phi_n, phi_t, lambda_n, lambda_t, u_n, u_t after that evaluation.
     point: [Vec<f64>; 6],
+    /// The same at the run's start, where `kept` (no retreat can come
+    /// otherwise; the same on every rank, unlike the vectors' lengths).
+    origin: [Vec<f64>; 6],
+    kept: bool,
+    /// Whether the plain iteration has started again from `origin`.
+    pub restarted: bool,
     /// The accuracy test as the run started.
     start: Accuracy,
     /// The iteration at which Anderson's iterates drifted (None: they have not).
@@ -45,11 +58,20 @@ pub(super) struct Retreat {
 const TOUCHING: usize = 10;
 
 impl Retreat {
-    pub(super) fn new(start: &Accuracy) -> Retreat {
+    /// `state`: the run's start, kept where `keep` (Anderson on, and its
+    /// caller lets the run go on plain).
+    pub(super) fn new(start: &Accuracy, state: &UbrState, keep: bool) -> Retreat {
+        let mut origin: [Vec<f64>; 6] = Default::default();
+        if keep {
+            copy_point(&mut origin, &state.surface);
+        }
         Retreat {
             best: f64::INFINITY,
             best_k: 0,
             point: Default::default(),
+            origin,
+            kept: keep,
+            restarted: false,
             start: start.clone(),
             at: None,
             untouched: None,
@@ -71,37 +93,44 @@ impl<C: Communicator> Run<'_, C> {
         }
         rt.best = p;
         rt.best_k = self.k;
-        let st = &self.state.surface;
-        let from = [
-            &st.phi_n,
-            &st.phi_t,
-            &st.lambda_n,
-            &st.lambda_t,
-            &st.un,
-            &st.ut,
-        ];
-        for (to, from) in rt.point.iter_mut().zip(from) {
-            to.clone_from(from);
-        }
+        copy_point(&mut rt.point, &self.state.surface);
     }
 
     /// Anderson's iterates drift or stall (`why`, for the monitor): goes
     /// back to the plain iterate of the smallest residual, and on without
-    /// Anderson. False where the run is plain already (the drift or the
-    /// stall is the problem's), where its caller goes on otherwise
-    /// ([`super::super::UbrControl::retreat`]), or where nothing touched
-    /// lately ([`TOUCHING`]).
+    /// Anderson; where that plain iteration drifts or stalls too, to the
+    /// run's start, once. False where the run was plain from its start (the
+    /// drift or the stall is the problem's), where its caller goes on
+    /// otherwise ([`super::super::UbrControl::retreat`]), where nothing
+    /// touched lately ([`TOUCHING`]), or where both were tried.
     pub(super) fn retreat(&mut self, why: std::fmt::Arguments) -> bool {
         let rt = &mut self.retreat;
         // An r far from the trial r0 is the cause the failure names.
         let far = self.ctl.r_far.is_some();
         let lately = rt.untouched.is_some_and(|k| self.k < k + TOUCHING);
-        let plain = self.aa.is_none() || !self.ctl.retreat;
-        if plain || rt.at.is_some() || !rt.best.is_finite() || far || lately {
+        if !self.ctl.retreat || far || lately {
             return false;
         }
-        rt.at = Some(self.k);
-        self.out.anderson_retreats = 1;
+        let first = self.aa.is_some() && rt.at.is_none() && rt.best.is_finite();
+        let again = rt.at.is_some() && !rt.restarted && rt.kept;
+        let (point, whence) = if first {
+            rt.at = Some(self.k);
+            self.out.anderson_retreats = 1;
+            let whence = format!(
+                "the plain iteration from the evaluation of the smallest residual P ({:.3e}, iteration {})",
+                rt.best, rt.best_k
+            );
+            (&rt.point, whence)
+        } else if again {
+            rt.restarted = true;
+            self.out.plain_restarts = 1;
+            (
+                &rt.origin,
+                "the plain iteration again from the run's start".into(),
+            )
+        } else {
+            return false;
+        };
         let st = &mut self.state.surface;
         let to = [
             &mut st.phi_n,
@@ -111,7 +140,7 @@ impl<C: Communicator> Run<'_, C> {
             &mut st.un,
             &mut st.ut,
         ];
-        for (to, from) in to.into_iter().zip(&rt.point) {
+        for (to, from) in to.into_iter().zip(point) {
             to.copy_from_slice(from);
         }
         self.aa = None;
@@ -122,12 +151,33 @@ impl<C: Communicator> Run<'_, C> {
         self.progress = Progress::new(true);
         self.drifting = 0;
         if self.root && self.ctl.monitor {
+            let whose = if first {
+                "Anderson's iterates"
+            } else {
+                "the plain iterates"
+            };
             println!(
-                "  {}: Anderson's iterates {why} at iteration {}: the plain iteration from the evaluation of the smallest residual P ({:.3e}, iteration {})",
-                self.name, self.k, rt.best, rt.best_k
+                "  {}: {whose} {why} at iteration {}: {whence}",
+                self.name, self.k
             );
         }
         true
+    }
+}
+
+/// phi_n, phi_t, lambda_n, lambda_t, u_n, u_t of `st` into `to` (its
+/// buffers reused).
+fn copy_point(to: &mut [Vec<f64>; 6], st: &SurfaceState) {
+    let from = [
+        &st.phi_n,
+        &st.phi_t,
+        &st.lambda_n,
+        &st.lambda_t,
+        &st.un,
+        &st.ut,
+    ];
+    for (to, from) in to.iter_mut().zip(from) {
+        to.clone_from(from);
     }
 }
 
@@ -167,11 +217,14 @@ pub(super) fn unbounded<C: Communicator>(
             ctl.drift_limit / 10.0
         )
     };
-    let plain = match run.retreat.at {
-        Some(at) => format!(
+    let plain = match (run.retreat.at, run.retreat.restarted) {
+        (Some(at), false) => format!(
             "; Anderson's iterates drifted or stalled first (iteration {at}), and the plain iteration from their smallest residual drifts too"
         ),
-        None => String::new(),
+        (Some(at), true) => format!(
+            "; Anderson's iterates drifted or stalled first (iteration {at}), and the plain iteration drifts too, from their smallest residual and from the start"
+        ),
+        (None, _) => String::new(),
     };
     Error::NotConverged(format!(
         "{name}: the body moves without bound: after {k} iterations a contact node has moved {:.3e}, ten times {scale}; {what}{plain}; no contact state found holds the loads (lower the loads, raise the friction, or add a Dirichlet condition)",
