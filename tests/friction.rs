@@ -461,7 +461,11 @@ fn a_quarter_that_rolls_is_solved() {
 /// 1, 2 and 3 ranks agree with a tight run.
 #[test]
 fn a_tresca_bound_just_above_the_load_is_solved() {
-    let args = |extra: &[&'static str]| hertz_tresca_sideways("22", extra);
+    let args = |extra: &[&'static str]| {
+        let mut v = hertz_sideways_held_y(&["-friction", "tresca", "-tresca_bound", "22"]);
+        v.extend_from_slice(extra);
+        v
+    };
     let tight = args(&["-ubr_r", "500", "-ubr_lambda_rtol", "1e-9"]);
     let (run, rep, reference) = solve_rows("s22 tight", 1, &tight);
     assert!(rep.converged, "{}", run.stdout);
@@ -470,5 +474,33 @@ fn a_tresca_bound_just_above_the_load_is_solved() {
         assert!(rep.converged, "{ranks} ranks: {}", run.context());
         let gap = max_stress_gap(&rows, &reference);
         assert!(gap <= 1e-3, "{ranks} ranks: error {gap:.2e}");
+    }
+}
+
+/// The same quarter under Coulomb friction: CF-FP starts sticking, and the
+/// first bound nu_f lambda_n of the sticking solution held nothing (the
+/// contact moves), so its Tresca solve failed with no bound to go back to
+/// (exit 3 at nu_f 0.15 to 0.5, "every one of the 31 contact nodes
+/// slips"). The sticking solution is the Tresca solution of its own
+/// |lambda_t|, the bound CF-FP now halves toward. 1 and 2 ranks agree with
+/// a tight run.
+#[test]
+fn a_sticking_start_is_a_bound_to_go_back_to() {
+    for nu in ["0.15", "0.5"] {
+        let args = |extra: &[&'static str]| {
+            let mut v = hertz_sideways_held_y(&["-friction", "coulomb"]);
+            v.extend_from_slice(&["-friction_coefficient", nu]);
+            v.extend_from_slice(extra);
+            v
+        };
+        let tight = args(&["-ubr_r", "500", "-ubr_lambda_rtol", "1e-9"]);
+        let (run, rep, reference) = solve_rows("held y tight", 1, &tight);
+        assert!(rep.converged, "{nu}: {}", run.stdout);
+        for ranks in [1, 2] {
+            let (run, rep, rows) = solve_rows("held y", ranks, &args(&[]));
+            assert!(rep.converged, "{nu}, {ranks} ranks: {}", run.context());
+            let gap = max_stress_gap(&rows, &reference);
+            assert!(gap <= 1e-3, "{nu}, {ranks} ranks: error {gap:.2e}");
+        }
     }
 }

@@ -484,7 +484,8 @@ fn a_very_soft_body_is_solved_and_a_sliding_one_named() {
         let gap = max_pressure_gap(&rows, &tight);
         assert!(gap < 1e-3, "{ranks} ranks: {gap:.2e} from the tight run");
     }
-    let run = mpirun(2, &hertz_tresca_sideways("0.1", &[]));
+    let tresca = ["-friction", "tresca", "-tresca_bound", "0.1"];
+    let run = mpirun(2, &hertz_sideways_held_y(&tresca));
     run.refused(
         "a Tresca bound too small",
         2,

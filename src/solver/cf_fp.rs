@@ -155,7 +155,7 @@ fn fixed_point<C: Communicator>(
             continue;
         }
         if !stalled {
-            halving.keep(world, &s, state, &run)?;
+            halving.keep(&s, state, &run)?;
         }
         let st = &state.surface;
         // s^{m+1} = nu_f |lambda_c^m| (the multiplier of the Tresca solve)
@@ -290,7 +290,11 @@ struct Good {
 /// symmetry condition, Coulomb 0.3, pushed sideways by a quarter of its
 /// normal load: the bound of the third Tresca solve, from the inexact
 /// second, held nothing, its solve stalled, exit 3; at -ubr_r 500 it
-/// converged.) A sticking bound (infinite) is no point to go back to.
+/// converged.) A sticking start (infinite s) goes back to the bound
+/// `|lambda_t|` of its solution (the Hertz quarter held by uy = 0 on its
+/// cut instead of ux = 0, Coulomb 0.5, pushed sideways by 240: the first
+/// bound nu_f lambda_n of the sticking solution held nothing, exit 3 at any
+/// nu_f).
 #[derive(Default)]
 struct Halving {
     good: Option<Good>,
@@ -299,18 +303,23 @@ struct Halving {
 
 impl Halving {
     /// A Tresca solve with the bound `s` converged (or stopped at its
-    /// floor): its state is the one to go back to.
-    fn keep<C: Communicator>(
-        &mut self,
-        world: &C,
-        s: &[f64],
-        state: &UbrState,
-        run: &UbrOutcome,
-    ) -> Result<(), Error> {
-        let infinite = s.iter().filter(|x| x.is_infinite()).count() as f64;
-        if allreduce_sum(world, [infinite])[0] > 0.0 {
-            return Ok(());
-        }
+    /// floor): its state is the one to go back to. A sticking solve's
+    /// (infinite s) is the Tresca solution of the bound `|lambda_t|` it
+    /// found (sticking where the bound is reached is allowed), the bound
+    /// kept in place of the infinite ones.
+    fn keep(&mut self, s: &[f64], state: &UbrState, run: &UbrOutcome) -> Result<(), Error> {
+        let lt = &state.surface.lambda_t;
+        let d = if s.is_empty() { 1 } else { lt.len() / s.len() };
+        let finite = |(i, &x): (usize, &f64)| match x.is_infinite() {
+            true => lt[i * d..(i + 1) * d]
+                .iter()
+                .map(|v| v * v)
+                .sum::<f64>()
+                .sqrt(),
+            false => x,
+        };
+        let s: Vec<f64> = s.iter().enumerate().map(finite).collect();
+        let s = &s[..];
         self.count = 0;
         match &mut self.good {
             Some(g) => {
@@ -337,8 +346,8 @@ impl Halving {
 
     /// The Tresca solve with `s` failed: `s` halfway back to the last
     /// good bound, the state its solution, the outer acceleration
-    /// restarted. False where there is none (the first solve, a sticking
-    /// one) or after [`HALVINGS`] halvings of this step.
+    /// restarted. False where there is none (the first solve) or after
+    /// [`HALVINGS`] halvings of this step.
     fn back<C: Communicator>(
         &mut self,
         world: &C,
