@@ -48,7 +48,7 @@ pub(super) fn stalled(
     };
     let cause = if friction && out.contact > 0 && out.stick == 0 {
         format!(
-            "every one of the {} contact nodes slips: the bound s cannot hold the tangential load, and the body slides (with Coulomb friction: friction cannot hold the loads with the pressures this body develops; lower the tangential load or raise -friction_coefficient)",
+            "every one of the {} contact nodes slips: the bound s cannot hold the loads, their tangential part or their moment, and the body slides or rolls (with Coulomb friction: friction cannot hold the loads with the pressures this body develops; lower the tangential load or raise -friction_coefficient)",
             out.contact
         )
     } else if let Some(r0) = ctl.r_far {

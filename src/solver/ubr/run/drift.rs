@@ -203,7 +203,7 @@ pub(super) fn unbounded<C: Communicator>(
         "no node touches the obstacle".to_string()
     } else if run.friction_bound.is_some() && sums.stick == 0.0 && !run.no_friction {
         format!(
-            "every one of the {} contact nodes slips: friction cannot hold the tangential load with the pressures this body develops, and the body slides",
+            "every one of the {} contact nodes slips: friction cannot hold the loads (their tangential part, or their moment) with the pressures this body develops, and the body slides or rolls",
             sums.contact
         )
     } else {
