@@ -192,6 +192,9 @@ pub struct UbrSettings {
     /// MUMPS' full solves with distributed right-hand sides and solutions
     /// (`-ubr_mumps_rhs distributed`), else through rank 0.
     pub distributed_rhs: bool,
+    /// MUMPS' pre-splitting of large fronts (`-ubr_mumps_split`); None: the
+    /// default (with the Schur complement on several ranks).
+    pub split_fronts: Option<bool>,
 }
 
 #[derive(Clone, Debug)]
@@ -628,6 +631,7 @@ fn ubr_settings() -> Result<UbrSettings, Error> {
         condense_max: UBR_CONDENSE_MAX.count()?,
         schur_distributed: UBR_SCHUR_DISTRIBUTED.switch()?,
         distributed_rhs: UBR_MUMPS_RHS.get()? == "distributed",
+        split_fronts: UBR_MUMPS_SPLIT.switch()?,
         dual_rtol: positive(
             UBR_DUAL_RTOL.name,
             UBR_DUAL_RTOL.real()?.unwrap_or(10.0 * rtol),

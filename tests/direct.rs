@@ -583,3 +583,95 @@ fn rank_counts_agree_with_the_parallel_ordering() {
         }
     }
 }
+
+/// MUMPS' pre-splitting of large fronts (`-ubr_mumps_split`, KEEP(210) =
+/// 1): on by default in 3D with the Schur complement on several ranks, the
+/// summary saying how many fronts were split; the contact stresses and
+/// displacements equal those of the unsplit factorization to round-off on 2
+/// and 3 ranks (frictionless and Coulomb, the 3D block of 2,357 nodes,
+/// whose analysis splits 4 fronts on 2 ranks); off on one rank and in 2D
+/// unless asked for; a bad value exits 2.
+#[test]
+fn split_fronts_change_nothing_but_the_time() {
+    const SPLIT: &str = "large fronts split in chains";
+    let tight = ["-ubr_lambda_rtol", "1e-10"];
+    let scenes: [Vec<&str>; 2] = [
+        [
+            &[
+                "-options_file",
+                "options/block3d",
+                "-mesh",
+                "meshes/block3d_2357.msh",
+            ][..],
+            &tight,
+        ]
+        .concat(),
+        [
+            &[
+                "-options_file",
+                "options/block3d-coulomb",
+                "-mesh",
+                "meshes/block3d_2357.msh",
+            ][..],
+            &tight,
+        ]
+        .concat(),
+    ];
+    for (k, scene) in scenes.iter().enumerate() {
+        for ranks in [2, 3] {
+            let (run, _, split) = solve_rows(&format!("split_d{k}_{ranks}"), ranks, scene);
+            assert!(run.stdout.contains(SPLIT), "{}", run.stdout);
+            let mut args = scene.clone();
+            args.extend_from_slice(&["-ubr_mumps_split", "0"]);
+            let (run0, _, whole) = solve_rows(&format!("split_0{k}_{ranks}"), ranks, &args);
+            assert!(!run0.stdout.contains(SPLIT), "{}", run0.stdout);
+            assert_eq!(split.len(), whole.len());
+            let peak = whole.iter().map(|r| r.lambda_n.abs()).fold(0.0, f64::max);
+            let umax = whole.iter().map(|r| r.un.abs()).fold(0.0, f64::max);
+            for (a, b) in split.iter().zip(&whole) {
+                assert!(
+                    (a.lambda_n - b.lambda_n).abs() <= 1e-10 * peak,
+                    "scene {k}, -n {ranks}: pressure {} against {}",
+                    a.lambda_n,
+                    b.lambda_n
+                );
+                assert!((a.un - b.un).abs() <= 1e-10 * umax);
+                for c in 0..3 {
+                    assert!((a.lambda_t[c] - b.lambda_t[c]).abs() <= 1e-10 * peak);
+                }
+            }
+        }
+    }
+    // One rank, and 2D: not split unless asked for.
+    let one = mpirun(1, &scenes[0]);
+    assert!(
+        one.status == Some(0) && !one.stdout.contains(SPLIT),
+        "{}",
+        one.context()
+    );
+    let hertz = [
+        "-options_file",
+        "options/hertz",
+        "-mesh",
+        "meshes/hertz_37473.msh",
+    ];
+    let two = mpirun(2, &hertz);
+    assert!(
+        two.status == Some(0) && !two.stdout.contains(SPLIT),
+        "{}",
+        two.context()
+    );
+    let asked = mpirun(2, &[&hertz[..], &["-ubr_mumps_split", "1"]].concat());
+    assert!(
+        asked.status == Some(0) && asked.stdout.contains(SPLIT),
+        "{}",
+        asked.context()
+    );
+    for ranks in [1, 2] {
+        mpirun(
+            ranks,
+            &[&scenes[0][..], &["-ubr_mumps_split", "2"]].concat(),
+        )
+        .refused("-ubr_mumps_split", 2, &["-ubr_mumps_split", "2"]);
+    }
+}

@@ -184,24 +184,64 @@ fn contact_nodes<C: Communicator>(
     (nodes, layout.total())
 }
 
+/// How [`Direct::new`] factorizes: with the Schur complement on the
+/// contact unknowns or not (and where it lies), and whether MUMPS' analysis
+/// splits large fronts into chains (`-ubr_mumps_split`).
+#[derive(Clone, Copy, Debug)]
+pub struct Plan {
+    pub schur: Option<SchurLayout>,
+    pub split_fronts: bool,
+}
+
+/// Asks MUMPS for the Schur complement on the `m` unknowns `listvar`
+/// (1-based; given on the host, empty elsewhere), distributed over the ranks
+/// or on the host. The error of the inner result: the host's Schur block
+/// does not fit in memory (every rank told).
+fn prepare_schur<C: Communicator>(
+    world: &C,
+    mumps: &mut Mumps,
+    m: usize,
+    listvar: Vec<i32>,
+    distributed: bool,
+) -> Result<Result<(), Error>, Error> {
+    if distributed {
+        mumps.set_distributed_schur(m, listvar, world.size() as usize, SCHUR_BLOCK);
+        // MUMPS underestimates the work space of a small distributed
+        // root, and a larger ICNTL(14) after the analysis does not
+        // help (block3d_739, Coulomb, 4 ranks: INFOG(1) = -9 at the
+        // default 20 and at 640 set after it; 60 before it works).
+        if options::get_string("-mat_mumps_icntl_14")?.is_none() {
+            mumps.set_icntl(14, 60);
+        }
+        return Ok(Ok(()));
+    }
+    let failed = mumps
+        .set_schur(m, listvar)
+        .err()
+        .map(|bytes| schur_memory(m, bytes));
+    Ok(host_verdict(world, failed))
+}
+
 impl Direct {
     /// Analyses and factorizes `a` (the assembled `K_r`), with the Schur
-    /// complement on the contact unknowns when `condense`.
+    /// complement on the contact unknowns when `plan.schur` is given.
     /// `comps`: the components of each candidate in the Schur complement
     /// (the normal axis alone when frictionless along an axis); `adjacency`:
-    /// the nodal graph METIS orders; `schur`: with the Schur complement on
-    /// the contact unknowns (condensed), built on the host or, on several
+    /// the nodal graph METIS orders; `plan.schur`: with the Schur complement
+    /// on the contact unknowns (condensed), built on the host or, on several
     /// ranks, distributed by MUMPS and gathered on the host after each
-    /// factorization.
+    /// factorization; `plan.split_fronts`: MUMPS' pre-splitting of large
+    /// fronts ([`Mumps::split_fronts`]).
     pub fn new<C: Communicator>(
         world: &C,
         a: &Matrix,
         mesh: &LocalMesh,
         adjacency: &Adjacency,
         surface: &Surface,
-        schur: Option<SchurLayout>,
+        plan: Plan,
         comps: &[usize],
     ) -> Result<Direct, Error> {
+        let schur = plan.schur;
         let condense = schur.is_some();
         let d = mesh.dim;
         let n = mesh.global_nodes * d;
@@ -215,28 +255,17 @@ impl Direct {
         let m = candidates * comps.len();
         let dof_layout = Layout::new(world, mesh.owned_count * d);
         let distributed = schur == Some(SchurLayout::Distributed) && world.size() > 1;
-        let mut prepared = Ok(());
-        if condense {
+        let prepared = if condense {
             let listvar: Vec<i32> = contact_global
                 .iter()
                 .flat_map(|&g| comps.iter().map(move |&c| (g * d + c + 1) as i32))
                 .collect();
-            if distributed {
-                mumps.set_distributed_schur(m, listvar, world.size() as usize, SCHUR_BLOCK);
-                // MUMPS underestimates the work space of a small distributed
-                // root, and a larger ICNTL(14) after the analysis does not
-                // help (block3d_739, Coulomb, 4 ranks: INFOG(1) = -9 at the
-                // default 20 and at 640 set after it; 60 before it works).
-                if options::get_string("-mat_mumps_icntl_14")?.is_none() {
-                    mumps.set_icntl(14, 60);
-                }
-            } else {
-                let failed = mumps
-                    .set_schur(m, listvar)
-                    .err()
-                    .map(|bytes| schur_memory(m, bytes));
-                prepared = host_verdict(world, failed);
-            }
+            prepare_schur(world, &mut mumps, m, listvar, distributed)?
+        } else {
+            Ok(())
+        };
+        if plan.split_fronts {
+            mumps.split_fronts();
         }
         let schur_nodes: &[usize] = if condense { &contact_global } else { &[] };
         // The analysis may fail as the factorization may (memory): kept too.
@@ -256,6 +285,13 @@ impl Direct {
             Ok(ordering)
         });
         let (ordering, analysed) = match analysis {
+            Ok(ordering) if plan.split_fronts && mumps.fronts_split() > 0 => (
+                format!(
+                    "{ordering}; {} large fronts split in chains",
+                    mumps.fronts_split()
+                ),
+                Ok(()),
+            ),
             Ok(ordering) => (ordering, Ok(())),
             Err(e) => ("not analysed".to_string(), Err(e)),
         };

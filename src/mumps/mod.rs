@@ -187,6 +187,20 @@ impl Mumps {
         self.id.icntl[i - 1]
     }
 
+    /// Lets the analysis split large fronts into chains of smaller ones
+    /// (KEEP(210) = 1: MUMPS' pre-splitting, which it otherwise does only
+    /// out of core). A front whose master would factorize its pivot block
+    /// while its slaves wait for the panels becomes a chain whose upper
+    /// parts the slaves of the lower ones update (the flops are unchanged).
+    pub fn split_fronts(&mut self) {
+        self.id.keep[209] = 1;
+    }
+
+    /// KEEP(61): the fronts the analysis split (after [`Self::split_fronts`]).
+    pub fn fronts_split(&self) -> i32 {
+        self.id.keep[60]
+    }
+
     /// Sets CNTL(i) (1-based).
     pub fn set_cntl(&mut self, i: usize, v: f64) {
         self.id.cntl[i - 1] = v;

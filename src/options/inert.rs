@@ -155,6 +155,7 @@ fn ubr_rules(r: &mut Rules, s: &Settings, solver_read: &[String]) {
                     UBR_CONDENSE_MAX.name,
                     UBR_SCHUR_DISTRIBUTED.name,
                     UBR_MUMPS_RHS.name,
+                    UBR_MUMPS_SPLIT.name,
                 ],
                 "it applies to the default direct solver (a MUMPS factorization, -ksp_type preonly), and the PETSc options choose another",
             );
@@ -164,7 +165,7 @@ fn ubr_rules(r: &mut Rules, s: &Settings, solver_read: &[String]) {
                 "the condensation needs MUMPS driven by the program (-ubr_mumps_direct 1), and -ubr_mumps_direct is 0",
             );
             r.rule(
-                &[UBR_MUMPS_RHS.name],
+                &[UBR_MUMPS_RHS.name, UBR_MUMPS_SPLIT.name],
                 "it applies to MUMPS driven by the program (-ubr_mumps_direct 1), and -ubr_mumps_direct is 0",
             );
         }
