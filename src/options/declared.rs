@@ -380,6 +380,7 @@ pub const ALL: &[&dyn Declared] = &[
     &UBR_MEMORY_MB,
     &UBR_MEMORY_RESERVE,
     &UBR_MUMPS_RHS,
+    &UBR_MUMPS_SPLIT,
     &UBR_SBAIJ,
     &UBR_INNER_RTOL_FACTOR,
     &SSN_R,
