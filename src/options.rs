@@ -187,7 +187,7 @@ pub struct UbrSettings {
     pub condense_max: Option<usize>,
     /// Several ranks: the Schur complement distributed over the ranks and
     /// factorized there by ScaLAPACK (None: not given, the default of the
-    /// rank count, [`crate::linalg::SCHUR_GRID_RANKS`]).
+    /// rank count and dimension, [`crate::linalg::SCHUR_GRID_RANKS`]).
     pub schur_distributed: Option<bool>,
     /// MUMPS' full solves with distributed right-hand sides and solutions
     /// (`-ubr_mumps_rhs distributed`), else through rank 0.

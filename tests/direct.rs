@@ -380,11 +380,12 @@ fn distributed_schur_equals_centralized() {
     }
 }
 
-/// The default layout of the Schur complement follows the rank count
-/// (`SCHUR_GRID_RANKS`): on rank 0 on 2 ranks, on ScaLAPACK's grid on 4;
-/// the same contact stresses either way.
+/// The default layout of the Schur complement follows the rank count and
+/// the dimension (`SCHUR_GRID_RANKS`): in 2D on rank 0 on 2 ranks, on
+/// ScaLAPACK's grid on 4; in 3D on the grid from 2 ranks; the same contact
+/// stresses either way.
 #[test]
-fn schur_grid_is_the_default_from_four_ranks() {
+fn schur_grid_is_the_default_from_four_ranks_in_2d_two_in_3d() {
     let scene = HERTZ_TIGHT;
     let (two, _, rows2) = solve_rows("grid_default_2", 2, scene);
     assert!(two.stdout.contains("condensed on"), "{}", two.stdout);
@@ -393,6 +394,21 @@ fn schur_grid_is_the_default_from_four_ranks() {
     assert!(four.stdout.contains(ON_THE_GRID), "{}", four.stdout);
     let e = max_pressure_gap(&rows4, &rows2);
     assert!(e <= 1e-10, "2 and 4 ranks differ by {e:.2e}");
+    let block = [
+        "-options_file",
+        "options/block3d-coulomb",
+        "-mesh",
+        "meshes/block3d_739.msh",
+        "-ubr_lambda_rtol",
+        "1e-10",
+    ];
+    let (one, _, rows1) = solve_rows("grid_default_3d_1", 1, &block);
+    assert!(one.stdout.contains("condensed on"), "{}", one.stdout);
+    assert!(!one.stdout.contains("ScaLAPACK"), "{}", one.stdout);
+    let (two, _, rows2) = solve_rows("grid_default_3d_2", 2, &block);
+    assert!(two.stdout.contains(ON_THE_GRID), "{}", two.stdout);
+    let e = max_pressure_gap(&rows2, &rows1);
+    assert!(e <= 1e-9, "3D: 1 and 2 ranks differ by {e:.2e}");
 }
 
 /// Full solves with MUMPS' distributed right-hand sides and solutions

@@ -14,7 +14,7 @@
 //!   ([`super::ordering::METIS_PAYS_2D`]).
 //! - Schur complement (when condensing): on the contact unknowns (candidate
 //!   by candidate, rank by rank), centralized on the host (ICNTL(19) = 1),
-//!   factorized there by LAPACK; or, from 4 ranks on
+//!   factorized there by LAPACK; or, from 2 ranks on in 3D and 4 in 2D
 //!   (`-ubr_schur_distributed`), on MUMPS' 1 x P grid (ICNTL(19) = 3),
 //!   factorized and solved there by ScaLAPACK (`linalg/grid.rs`). A full solve is then a condensation
 //!   (ICNTL(26) = 1), a dense solve with S, an expansion (ICNTL(26) = 2).

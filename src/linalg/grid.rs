@@ -84,6 +84,14 @@ fn symbol(name: &CStr) -> Option<*mut c_void> {
     (!p.is_null()).then_some(p)
 }
 
+/// Whether the process loaded BLACS and ScaLAPACK (those of MUMPS): the
+/// default layout of the Schur complement stays on rank 0 without them
+/// (a MUMPS built without ScaLAPACK), where `-ubr_schur_distributed 1` is
+/// refused.
+pub fn scalapack_loaded() -> bool {
+    Api::loaded().is_some()
+}
+
 impl Api {
     /// The routines, if the process loaded them (MUMPS' ScaLAPACK).
     fn loaded() -> Option<Api> {

@@ -48,17 +48,31 @@ pub const CONDENSE_MAX: [[usize; 2]; 2] = [[6000, 6000], [4000, 6000]];
 
 /// The rank count from which the Schur complement of a condensed run is
 /// distributed over the ranks and factorized and solved there by ScaLAPACK
-/// by default (`-ubr_schur_distributed`; [`grid`]). Measured on a 16-core
-/// machine (2026-11-28; total s, LAPACK on rank 0 against ScaLAPACK):
-/// generated block, Coulomb, 5952 unknowns: 16 ranks 13.5 against 8.1 and
-/// 9.1 (the dense factorization 1.56 against 0.28 s, 143 solves 3.38
-/// against 0.92 s), 8 ranks 16.1 against 11.2; frictionless 3D (1984
-/// unknowns) 5.6-5.7 against 5.1, 2D (1258) 2.8-2.9 against 2.6. On 2
-/// ranks (this project's 2-core machine, medians of 2-3 runs each) no gain:
-/// the same within the noise on the large scenes, 4-7% slower on
-/// hertz_37473 and block3d_17887 (one-column solves on a 1 x 2 grid wait
-/// on each other's blocks).
-pub const SCHUR_GRID_RANKS: usize = 4;
+/// by default (`-ubr_schur_distributed`; [`grid`]), in 2D and in 3D.
+/// Measured on a 16-core machine (2026-11-28; total s, LAPACK on rank 0
+/// against ScaLAPACK): generated block, Coulomb, 5952 unknowns: 16 ranks
+/// 13.5 against 8.1 and 9.1 (the dense factorization 1.56 against 0.28 s,
+/// 143 solves 3.38 against 0.92 s), 8 ranks 16.1 against 11.2;
+/// frictionless 3D (1984 unknowns) 5.6-5.7 against 5.1, 2D (1258) 2.8-2.9
+/// against 2.6. On 2 ranks (this project's 2-core machine, 2026-11-29,
+/// interleaved, medians of 3-10 runs, with MUMPS' pre-splitting of 3D
+/// fronts): 3D gains, the rank-0 factorizations of S shared: the 63k-node
+/// block (1984 unknowns) 12.49 -> 12.00 s, its Coulomb variant at h 0.05
+/// 2.62 -> 2.40 s, block3d-coulomb on block3d_17887 3.49 -> 3.21 s,
+/// block3d_17887 1.504 -> 1.503 s; 2D loses on the small scenes, whose
+/// solves are short and whose one-column solves on a 1 x 2 grid wait on
+/// each other's blocks: hertz_37473 0.294 -> 0.300 s (its iterations
+/// 0.013 -> 0.015 s), hertz-coulomb 0.340 -> 0.343 s, the 582k-node 2D
+/// scene 5.66 -> 5.62 s. (The measurement of 2026-11-28, medians of 2-3
+/// runs and without the pre-splitting, had found no gain on 2 ranks.)
+pub const SCHUR_GRID_RANKS: [usize; 2] = [4, 2];
+
+/// The default of `-ubr_schur_distributed`: whether `ranks` ranks in
+/// dimension `d` distribute the Schur complement ([`SCHUR_GRID_RANKS`];
+/// never where MUMPS came without ScaLAPACK).
+pub fn schur_grid(d: usize, ranks: usize) -> bool {
+    ranks >= SCHUR_GRID_RANKS[d - 2] && grid::scalapack_loaded()
+}
 
 /// The default of `-ubr_condense_max` in dimension `d`, with friction
 /// (`tangential`) or not ([`CONDENSE_MAX`]).

@@ -505,7 +505,7 @@ fn engine<C: Communicator>(
         let grid = settings
             .ubr
             .schur_distributed
-            .unwrap_or(world.size() as usize >= crate::linalg::SCHUR_GRID_RANKS);
+            .unwrap_or(crate::linalg::schur_grid(d, world.size() as usize));
         let layout = condense.then_some(if grid {
             direct::SchurLayout::Distributed
         } else {
