@@ -2,7 +2,7 @@
 # Strong scaling on a lent 16-core machine in one prepared call (issue "Scaling studies"):
 # the 2D (-mesh_h 0.01) and 3D (-mesh_h 0.0333) direct scenes at 1..16 ranks, the 1M-node
 # GAMG block at 16, and variants. Needs the relocatable bundle (../shared/tools/bundle) in
-# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh [full|partition|local|final|repeat|gamg|ptscotch|current]
+# bundle/ (or $BUNDLE). From the project root:  DEADLINE=530 bash bench/device16.sh [full|partition|local|final|repeat|gamg|ptscotch|current|lease5|lease6|split]
 # MAP="mpirun options" replaces the default one rank per core (hybrid runs with BLAS threads).
 # Writes $OUT/dev.log (summary lines) and $OUT/runs.txt (every run's whole output).
 set -u
@@ -103,6 +103,12 @@ echo "== 2D Coulomb"; one 16 c2 $C2 -log_view; one 16 c2sd $C2 -ubr_schur_distri
 echo "== frictionless, ScaLAPACK"; one 16 d3sd $H3 -ubr_schur_distributed 1 -log_view; one 16 d2sd $H2 -ubr_schur_distributed 1 -log_view
 echo "== medians"; one 1 d2 $H2; one 16 d2 $H2; one 16 d2 $H2; one 1 d3 $H3; one 16 d3 $H3; one 16 d3 $H3; one 1 d2 $H2; one 16 d2 $H2
 one 1 c3 $C3
+;;
+split)  # MUMPS' pre-splitting of large fronts (3D default since 2026-11-29) on and off, 8 and 16 ranks, and in 2D
+echo "== 3D direct"; one 16 d3 $H3 -log_view; one 16 d3s0 $H3 -ubr_mumps_split 0 -log_view; one 8 d3 $H3; one 8 d3s0 $H3 -ubr_mumps_split 0
+one 1 d3 $H3; one 16 d3 $H3; one 16 d3s0 $H3 -ubr_mumps_split 0
+echo "== 2D direct"; one 16 d2 $H2; one 16 d2s1 $H2 -ubr_mumps_split 1; one 1 d2 $H2; one 16 d2 $H2; one 16 d2s1 $H2 -ubr_mumps_split 1
+echo "== 3D Coulomb"; C3="-options_file options/block3d-coulomb -mesh_generate block3d -mesh_h 0.0333"; one 16 c3 $C3; one 16 c3s0 $C3 -ubr_mumps_split 0
 ;;
 esac
 echo "== done after $(( $(date +%s) - T0 )) s"
