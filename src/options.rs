@@ -193,7 +193,7 @@ pub struct UbrSettings {
     /// (`-ubr_mumps_rhs distributed`), else through rank 0.
     pub distributed_rhs: bool,
     /// MUMPS' pre-splitting of large fronts (`-ubr_mumps_split`); None: the
-    /// default (with the Schur complement on several ranks).
+    /// default (in 3D with the Schur complement on several ranks).
     pub split_fronts: Option<bool>,
 }
 
