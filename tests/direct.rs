@@ -609,7 +609,7 @@ fn rank_counts_agree_with_the_parallel_ordering() {
 /// unless asked for; a bad value exits 2.
 #[test]
 fn split_fronts_change_nothing_but_the_time() {
-    const SPLIT: &str = "large fronts split in chains";
+    const SPLIT: &str = "split in chains";
     let tight = ["-ubr_lambda_rtol", "1e-10"];
     let scenes: [Vec<&str>; 2] = [
         [

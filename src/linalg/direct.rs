@@ -285,13 +285,14 @@ impl Direct {
             Ok(ordering)
         });
         let (ordering, analysed) = match analysis {
-            Ok(ordering) if plan.split_fronts && mumps.fronts_split() > 0 => (
-                format!(
-                    "{ordering}; {} large fronts split in chains",
-                    mumps.fronts_split()
-                ),
-                Ok(()),
-            ),
+            Ok(ordering) if plan.split_fronts && mumps.fronts_split() > 0 => {
+                let n = mumps.fronts_split();
+                let fronts = if n == 1 { "front" } else { "fronts" };
+                (
+                    format!("{ordering}; {n} large {fronts} split in chains"),
+                    Ok(()),
+                )
+            }
             Ok(ordering) => (ordering, Ok(())),
             Err(e) => ("not analysed".to_string(), Err(e)),
         };
