@@ -411,6 +411,35 @@ fn schur_grid_is_the_default_from_four_ranks_in_2d_two_in_3d() {
     assert!(e <= 1e-9, "3D: 1 and 2 ranks differ by {e:.2e}");
 }
 
+/// The contact stresses and displacements of `a` equal those of `b`, row
+/// by row, to 1e-10 of their largest (two runs that differ by round-off).
+fn same_to_round_off(a: &[Row], b: &[Row], what: &str) {
+    assert_eq!(a.len(), b.len(), "{what}");
+    let peak = b.iter().map(|r| r.lambda_n.abs()).fold(0.0, f64::max);
+    let umax = b.iter().map(|r| r.un.abs()).fold(0.0, f64::max);
+    for (x, y) in a.iter().zip(b) {
+        assert!(
+            (x.lambda_n - y.lambda_n).abs() <= 1e-10 * peak,
+            "{what}: pressure {} against {}",
+            x.lambda_n,
+            y.lambda_n
+        );
+        assert!(
+            (x.un - y.un).abs() <= 1e-10 * umax,
+            "{what}: u_n {} against {}",
+            x.un,
+            y.un
+        );
+        for c in 0..3 {
+            assert!(
+                (x.lambda_t[c] - y.lambda_t[c]).abs() <= 1e-10 * peak,
+                "{what}"
+            );
+            assert!((x.ut[c] - y.ut[c]).abs() <= 1e-10 * umax, "{what}");
+        }
+    }
+}
+
 /// Full solves with MUMPS' distributed right-hand sides and solutions
 /// (the default; issue "Scaling studies", item 3) against the centralized
 /// ones (`-ubr_mumps_rhs centralized`): the same contact stresses and
@@ -460,27 +489,7 @@ fn distributed_rhs_equals_centralized() {
             let mut args = scene.clone();
             args.extend_from_slice(&["-ubr_mumps_rhs", "centralized"]);
             let (_, _, central) = solve_rows(&format!("rhs_c{k}_{ranks}"), ranks, &args);
-            assert_eq!(dist.len(), central.len());
-            let peak = central.iter().map(|r| r.lambda_n.abs()).fold(0.0, f64::max);
-            let umax = central.iter().map(|r| r.un.abs()).fold(0.0, f64::max);
-            for (a, b) in dist.iter().zip(&central) {
-                assert!(
-                    (a.lambda_n - b.lambda_n).abs() <= 1e-10 * peak,
-                    "scene {k}, -n {ranks}: pressure {} against {}",
-                    a.lambda_n,
-                    b.lambda_n
-                );
-                assert!(
-                    (a.un - b.un).abs() <= 1e-10 * umax,
-                    "scene {k}, -n {ranks}: u_n {} against {}",
-                    a.un,
-                    b.un
-                );
-                for c in 0..3 {
-                    assert!((a.lambda_t[c] - b.lambda_t[c]).abs() <= 1e-10 * peak);
-                    assert!((a.ut[c] - b.ut[c]).abs() <= 1e-10 * umax);
-                }
-            }
+            same_to_round_off(&dist, &central, &format!("scene {k}, -n {ranks}"));
         }
     }
     let mut args = scenes[0].clone();
@@ -641,21 +650,7 @@ fn split_fronts_change_nothing_but_the_time() {
             args.extend_from_slice(&["-ubr_mumps_split", "0"]);
             let (run0, _, whole) = solve_rows(&format!("split_0{k}_{ranks}"), ranks, &args);
             assert!(!run0.stdout.contains(SPLIT), "{}", run0.stdout);
-            assert_eq!(split.len(), whole.len());
-            let peak = whole.iter().map(|r| r.lambda_n.abs()).fold(0.0, f64::max);
-            let umax = whole.iter().map(|r| r.un.abs()).fold(0.0, f64::max);
-            for (a, b) in split.iter().zip(&whole) {
-                assert!(
-                    (a.lambda_n - b.lambda_n).abs() <= 1e-10 * peak,
-                    "scene {k}, -n {ranks}: pressure {} against {}",
-                    a.lambda_n,
-                    b.lambda_n
-                );
-                assert!((a.un - b.un).abs() <= 1e-10 * umax);
-                for c in 0..3 {
-                    assert!((a.lambda_t[c] - b.lambda_t[c]).abs() <= 1e-10 * peak);
-                }
-            }
+            same_to_round_off(&split, &whole, &format!("scene {k}, -n {ranks}"));
         }
     }
     // One rank, and 2D: not split unless asked for.
