@@ -425,12 +425,16 @@ fn cf_fp_outer_estimate_at_the_noise_of_inexact_solves() {
 /// that bound); at a quarter, that solve's bound, from the inexact second
 /// one, held nothing. CF-FP now halves the step from the last bound that
 /// held. Each converges on 1 and 2 ranks within the target of a tight run
-/// at -ubr_r 500.
+/// at -ubr_r 500. At a quarter on 2 ranks (MUMPS' round-off differs from
+/// run to run there), about one run in ten still failed after four
+/// halvings, its good bounds' solutions slipping at every node, as did 1
+/// rank at 26 and 27 against 0.28 (the `edge` of `Halving` in cf_fp.rs):
+/// those too converge now, each a fixed point of s.
 #[test]
 fn a_quarter_that_rolls_is_solved() {
-    for side in ["10", "25"] {
+    for (side, nu) in [("10", "0.3"), ("25", "0.3"), ("26", "0.28"), ("27", "0.28")] {
         let load = format!("{side},-100");
-        let coulomb = ["-friction", "coulomb", "-friction_coefficient", "0.3"];
+        let coulomb = ["-friction", "coulomb", "-friction_coefficient", nu];
         let args = |extra: &[&'static str]| {
             let mut v = hertz_free_x("meshes/hertz_1692.msh", &load, &coulomb);
             v.extend_from_slice(extra);
@@ -439,7 +443,8 @@ fn a_quarter_that_rolls_is_solved() {
         let tight = args(&["-ubr_r", "500", "-ubr_lambda_rtol", "1e-9"]);
         let (run, rep, reference) = solve_rows("rolls tight", 1, &tight);
         assert!(rep.converged, "{side}: {}", run.stdout);
-        for ranks in [1, 2] {
+        let ranks: &[usize] = if nu == "0.3" { &[1, 2] } else { &[1] };
+        for &ranks in ranks {
             let (run, rep, rows) = solve_rows("rolls", ranks, &args(&[]));
             assert!(
                 rep.converged,
@@ -448,6 +453,13 @@ fn a_quarter_that_rolls_is_solved() {
             );
             let gap = max_stress_gap(&rows, &reference);
             assert!(gap <= 1e-3, "{side}, {ranks} ranks: error {gap:.2e}");
+            // s = nu_f |lambda_n| to the target (not a halved bound whose
+            // solution came again).
+            let change = rep.fixed_point_change.unwrap_or(f64::NAN);
+            assert!(
+                change <= 1e-3,
+                "{side}, {ranks} ranks: change of s {change:.2e}"
+            );
         }
     }
 }
@@ -501,6 +513,11 @@ fn a_sticking_start_is_a_bound_to_go_back_to() {
             assert!(rep.converged, "{nu}, {ranks} ranks: {}", run.context());
             let gap = max_stress_gap(&rows, &reference);
             assert!(gap <= 1e-3, "{nu}, {ranks} ranks: error {gap:.2e}");
+            let change = rep.fixed_point_change.unwrap_or(f64::NAN);
+            assert!(
+                change <= 1e-3,
+                "{nu}, {ranks} ranks: change of s {change:.2e}"
+            );
         }
     }
 }

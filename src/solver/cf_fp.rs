@@ -27,7 +27,7 @@ use super::stopping::StopRule;
 use super::surface::{SurfaceState, UbrState};
 use super::ubr::{complete, ubr, UbrControl, UbrOutcome, Whole};
 use super::Problem;
-use crate::comm::{allreduce_max_n, allreduce_sum};
+use crate::comm::{allreduce_max, allreduce_max_n, allreduce_sum};
 use crate::error::Error;
 use crate::petsc::Vector;
 use mpi::traits::*;
@@ -116,13 +116,13 @@ fn fixed_point<C: Communicator>(
     let mut out = CfFpOutcome::default();
     // Accuracy mode: the previous Tresca solution's multipliers, and the
     // recent changes between solutions.
-    let mut prev: Option<(Vec<f64>, Vec<f64>)> = None;
     let mut changes = Changes::default();
     let mut outer = (fp_anderson > 0).then(|| Anderson::new(fp_anderson, w.clone()));
     let mut floors = Floors::default();
     // Consecutive fixed-point iterations whose change of s is round-off.
     let mut flat = 0;
-    let (mut halving, mut retreats) = (Halving::default(), [0, 0]);
+    let mut halving = Halving::new(ctl.monitor);
+    let mut retreats = [0, 0];
     for m in 0..fp_max_it {
         let (mut inner, full_tolerance) = floors.control(ctl, m, paper);
         // A step of s that can still be halved is, before the plain
@@ -134,7 +134,7 @@ fn fixed_point<C: Communicator>(
             // back to the last bound that held, half the step; none left,
             // the answer is that bound's solution, with the failure.
             Err(Error::NotConverged(why)) => {
-                if halving.back(world, &mut s, state, &mut outer, ctl.monitor)? {
+                if halving.back(world, &mut s, state, (&mut outer, &mut changes))? {
                     continue;
                 }
                 let Some((bound, good)) = halving.restore(state)? else {
@@ -151,7 +151,8 @@ fn fixed_point<C: Communicator>(
         run.count_retreats(&mut retreats);
         out.fixed_point_iterations = m + 1;
         // (Two solves in a row at their floor: no bound would do better.)
-        if stalled && !at_floor && halving.back(world, &mut s, state, &mut outer, ctl.monitor)? {
+        let retreat = (&mut outer, &mut changes);
+        if stalled && !at_floor && halving.back(world, &mut s, state, retreat)? {
             continue;
         }
         if !stalled {
@@ -168,7 +169,7 @@ fn fixed_point<C: Communicator>(
         let mut estimate = f64::INFINITY;
         if !paper {
             changes.noise = run.error_estimate;
-            estimate = outer_estimate(world, d, st, &mut prev, &mut changes);
+            estimate = outer_estimate(world, d, st, &mut changes);
             out.fp_error_estimate = estimate;
         }
         progress(m, out.fp_change, run.contact);
@@ -285,23 +286,40 @@ struct Good {
 /// problem without solution, CF-FP goes back to it and takes half the
 /// step, up to [`HALVINGS`] times: the bounds under which a Tresca problem
 /// has a solution form a convex set (those of the loads' balance with
-/// |lambda_t| <= s), and the last good bound is in it. The Coulomb fixed
-/// point is the halved map's too. (The Hertz quarter without its
-/// symmetry condition, Coulomb 0.3, pushed sideways by a quarter of its
-/// normal load: the bound of the third Tresca solve, from the inexact
-/// second, held nothing, its solve stalled, exit 3; at -ubr_r 500 it
-/// converged.) A sticking start (infinite s) goes back to the bound
-/// `|lambda_t|` of its solution (the Hertz quarter held by uy = 0 on its
-/// cut instead of ux = 0, Coulomb 0.5, pushed sideways by 240: the first
-/// bound nu_f lambda_n of the sticking solution held nothing, exit 3 at any
-/// nu_f).
-#[derive(Default)]
+/// |lambda_t| <= s), and the last good bound is in it. Where that bound's
+/// solution slips at every contact node, it sits on the set's edge (the
+/// friction forces all at their bounds balance the loads): a smaller bound
+/// in the direction the body slides holds nothing, nor does any midpoint
+/// toward one. The halved bound is then kept at least the good one (the
+/// set holds every bound above one of its own: more room for |lambda_t|),
+/// where the step raises it somewhere; where it raises nothing, that would
+/// be the good bound again, and the plain midpoint is taken. (The Hertz
+/// quarter without its symmetry condition, Coulomb 0.3, pushed sideways by
+/// a quarter of its normal load: on 2 ranks, about one run in ten failed
+/// after four plain halvings, its good bounds slipping everywhere, now
+/// none in 20; on 1 rank 5 of 36 sideways loads from 10 to 28 and
+/// coefficients from 0.28 to 0.32 failed, now only 28 at 0.28, the load
+/// friction can just hold.) A sticking start (infinite s) goes back to
+/// the bound `|lambda_t|` of its solution (the Hertz quarter held by uy = 0
+/// on its cut instead of ux = 0, Coulomb 0.5, pushed sideways by 240: the
+/// first bound nu_f lambda_n of the sticking solution held nothing, exit 3
+/// at any nu_f). The Coulomb fixed point is the halved map's too.
 struct Halving {
     good: Option<Good>,
     count: usize,
+    /// Whether the monitor prints each halving.
+    monitor: bool,
 }
 
 impl Halving {
+    fn new(monitor: bool) -> Halving {
+        Halving {
+            good: None,
+            count: 0,
+            monitor,
+        }
+    }
+
     /// A Tresca solve with the bound `s` converged (or stopped at its
     /// floor): its state is the one to go back to. A sticking solve's
     /// (infinite s) is the Tresca solution of the bound `|lambda_t|` it
@@ -345,31 +363,45 @@ impl Halving {
     }
 
     /// The Tresca solve with `s` failed: `s` halfway back to the last
-    /// good bound, the state its solution, the outer acceleration
-    /// restarted. False where there is none (the first solve) or after
-    /// [`HALVINGS`] halvings of this step.
+    /// good bound (nowhere below it where that bound is on the edge), the
+    /// state its solution, the outer estimate's history and the outer
+    /// acceleration restarted. False where there is none (the first solve)
+    /// or after [`HALVINGS`] halvings of this step.
     fn back<C: Communicator>(
         &mut self,
         world: &C,
         s: &mut [f64],
         state: &mut UbrState,
-        outer: &mut Option<Anderson>,
-        monitor: bool,
+        (outer, changes): (&mut Option<Anderson>, &mut Changes),
     ) -> Result<bool, Error> {
         let more = self.can_back();
         let Some(g) = self.good.as_ref().filter(|_| more) else {
             return Ok(false);
         };
         self.count += 1;
+        // A good solution that slips at every contact node: nowhere below
+        // its bound, where the step raises it somewhere (see [`Halving`]).
+        let rise = s
+            .iter()
+            .zip(&g.s)
+            .fold(0.0, |a: f64, (x, gs)| a.max(x - gs));
+        let edge = g.run.stick == 0 && g.run.contact > 0 && allreduce_max(world, rise) > 0.0;
         for (x, gs) in s.iter_mut().zip(&g.s) {
-            *x = 0.5 * (*x + gs);
+            let mid = 0.5 * (*x + gs);
+            *x = if edge { mid.max(*gs) } else { mid };
         }
         state.surface.clone_from(&g.surface);
         state.u.copy_from(&g.u)?;
         if let Some(aa) = outer.as_mut() {
             aa.restart();
         }
-        if monitor && world.rank() == 0 {
+        // The next solve's bound is no step of the map from the last one's:
+        // the change of lambda between them measures no fixed point (a
+        // bound near the good one gives about its solution again, a change
+        // near 0: a trial that kept the good bound "converged" with s 24
+        // times nu_f |lambda_n|).
+        *changes = Changes::default();
+        if self.monitor && world.rank() == 0 {
             println!(
                 "  CF-FP: the Tresca solve failed: half the step from the last bound that held ({} of {HALVINGS})",
                 self.count
@@ -514,6 +546,8 @@ fn relative_change<C: Communicator>(world: &C, w: &[f64], next: &[f64], s: &[f64
 /// what decides whether the latest is noise.
 #[derive(Default)]
 struct Changes {
+    /// The previous Tresca solution's lambda_n and lambda_t.
+    prev: Option<(Vec<f64>, Vec<f64>)>,
     list: Vec<f64>,
     /// The error estimate of the Tresca solve just made, and of the one
     /// before it: the noise their errors leave in the change between them.
@@ -533,8 +567,8 @@ struct Changes {
 const CHANGE_NOISE: f64 = 4.0;
 
 /// Accuracy mode: the outer error estimate of lambda from the changes of
-/// lambda between Tresca solutions (`prev`: the previous one's
-/// multipliers; `changes`: the recent changes): the last change times
+/// lambda between Tresca solutions (`changes`: the previous one's
+/// multipliers and the recent changes): the last change times
 /// 1 / (1 - q), q the largest of the last four ratios of consecutive
 /// changes, or the one last measured where the change is noise
 /// ([`CHANGE_NOISE`]).
@@ -542,7 +576,6 @@ fn outer_estimate<C: Communicator>(
     world: &C,
     d: usize,
     st: &SurfaceState,
-    prev: &mut Option<(Vec<f64>, Vec<f64>)>,
     changes: &mut Changes,
 ) -> f64 {
     let mut estimate = f64::INFINITY;
@@ -550,7 +583,7 @@ fn outer_estimate<C: Communicator>(
     let finite = |e: f64| if e.is_finite() { e } else { 0.0 };
     let noise = CHANGE_NOISE * (finite(changes.noise) + finite(changes.last_noise));
     changes.last_noise = changes.noise;
-    if let Some((pn, pt)) = prev.as_ref() {
+    if let Some((pn, pt)) = changes.prev.as_ref() {
         let mut ext = [0.0f64; 4];
         for i in 0..ln.len() {
             ext[0] = ext[0].max((ln[i] - pn[i]).abs());
@@ -588,7 +621,7 @@ fn outer_estimate<C: Communicator>(
             change / (1.0 - q.max(0.0))
         };
     }
-    *prev = Some((ln.clone(), lt.clone()));
+    changes.prev = Some((ln.clone(), lt.clone()));
     estimate
 }
 

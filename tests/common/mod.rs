@@ -467,6 +467,9 @@ pub struct Report {
     pub iterations: f64,
     #[serde(deserialize_with = "number")]
     pub fixed_point_iterations: f64,
+    /// CF-FP's relative change of s at its last iteration (null elsewhere).
+    #[serde(default)]
+    pub fixed_point_change: Option<f64>,
     #[serde(deserialize_with = "number")]
     pub frictionless_iterations: f64,
     #[serde(deserialize_with = "number")]
