@@ -292,6 +292,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
                 sigma_max: f64::NAN,
                 steps: 0,
                 refactorized: false,
+                friction_held: false,
             }
         })
     }

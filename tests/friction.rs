@@ -521,3 +521,45 @@ fn a_sticking_start_is_a_bound_to_go_back_to() {
         }
     }
 }
+
+/// Where friction alone holds a rigid motion, the automatic r is the
+/// spectral estimate divided by 3 (`penalty::FRICTION_HELD`): the rolling
+/// Hertz quarter under Tresca s = 5 and a sideways traction of 1 (against
+/// 100 down) ended with exit 3 after 4507 iterations at the estimate (it
+/// stalled); now it converges in about 440, on 1 and 2 ranks within the
+/// target of a tight run. A body held by a Dirichlet condition keeps the
+/// estimate.
+#[test]
+fn friction_held_bodies_take_a_third_of_the_spectral_r() {
+    let tresca = ["-friction", "tresca", "-tresca_bound", "5"];
+    let args = |extra: &[&'static str]| {
+        let mut v = hertz_free_x("meshes/hertz_1692.msh", "1,-100", &tresca);
+        v.extend_from_slice(extra);
+        v
+    };
+    let tight = args(&["-ubr_r", "200", "-ubr_lambda_rtol", "1e-9"]);
+    let (run, rep, reference) = solve_rows("held by friction tight", 1, &tight);
+    assert!(rep.converged, "{}", run.stdout);
+    for ranks in [1, 2] {
+        let (run, rep, rows) = solve_rows("held by friction", ranks, &args(&[]));
+        assert!(rep.converged, "{ranks} ranks: {}", run.context());
+        let ratio = rep.r / rep.r_estimate;
+        assert!(
+            (ratio - 1.0 / 3.0).abs() < 1e-12,
+            "{ranks} ranks: r / estimate {ratio}"
+        );
+        assert!(run
+            .stdout
+            .contains("divided by 3: friction alone holds a rigid motion"));
+        let gap = max_stress_gap(&rows, &reference);
+        assert!(gap <= 1e-3, "{ranks} ranks: error {gap:.2e}");
+    }
+    let (run, rep, _) = solve_rows(
+        "held by ux = 0",
+        1,
+        &["-options_file", "options/hertz-tresca"],
+    );
+    assert!(rep.converged, "{}", run.stdout);
+    assert_eq!(rep.r, rep.r_estimate, "{}", run.stdout);
+    assert!(!run.stdout.contains("divided by"));
+}

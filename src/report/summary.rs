@@ -174,8 +174,15 @@ fn r_source(choice: Option<&penalty::Choice>) -> String {
                 "moved without refactorization"
             };
             if c.estimate.is_finite() {
+                let held = match c.friction_held {
+                    true => format!(
+                        ", divided by {}: friction alone holds a rigid motion",
+                        penalty::FRICTION_HELD
+                    ),
+                    false => String::new(),
+                };
                 format!(
-                    "auto: spectral estimate {:.4e} from {} Lanczos solves, trial {:.4e} {moved}",
+                    "auto: spectral estimate {:.4e} from {} Lanczos solves{held}, trial {:.4e} {moved}",
                     c.estimate, c.steps, c.r0
                 )
             } else {

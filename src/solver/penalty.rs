@@ -47,6 +47,24 @@ const ROUGH_STEPS: usize = 4;
 const SETTLED: f64 = 0.02;
 /// A full back-end refactorizes when the estimate is this far from r0.
 pub const WINDOW: f64 = 3.0;
+/// Where friction alone holds a rigid motion (no Dirichlet condition and
+/// no contact along n restrains it: [`Restraint::friction_held`]), r is
+/// the spectral estimate divided by this. The rule balances the modes of
+/// the compliance; such a motion is none of them (K does not see it, and
+/// the estimate deflates it), and only the sticking nodes hold it, at a
+/// stiffness of r. Measured at fixed r, multiples of the estimate (1
+/// rank, 2026-11-29): the Hertz quarter free along x and rolling, Tresca
+/// s 2-20 under sideways loads 0.5-8 (20 scenes): 7 failed and 41316
+/// iterations at 1x, 4 and 24641 at 1/2, 2 and 12631 at 1/3, 0 and 4824
+/// at 1/10; Coulomb 0.28-0.32 under 10-28 (36): 1 failed each (the load
+/// at what friction can hold), 47376 Tresca iterations at 1x, 24404 at
+/// 1/3; the quarter held by uy = 0 only, Tresca (12): 2729, 805, 851 at 1x,
+/// 1/3, 1/10; Coulomb (30, 4 failing at 1x, 1/3, 1/10 alike: loads beyond
+/// what friction holds): 15584, 13104, 16665; a round-nosed 2D block and a
+/// 3D dome on a tilted plane, Coulomb: 279/261, 308/287, 217/130, 178/126
+/// at 1x/(1/3). Bodies held by Dirichlet conditions keep the estimate
+/// (block3d Coulomb: 68 iterations at 1x, 97 at 1/3).
+pub const FRICTION_HELD: f64 = 3.0;
 
 /// Where r came from, for the summary and the report (`r_source`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -70,6 +88,9 @@ pub struct Choice {
     /// refactorized for the new r.
     pub steps: usize,
     pub refactorized: bool,
+    /// The estimate divided by [`FRICTION_HELD`]: friction alone holds a
+    /// rigid motion.
+    pub friction_held: bool,
 }
 
 /// The P-wave modulus: the stiffness of the material in a constrained
@@ -418,6 +439,7 @@ pub fn choose<C: Communicator>(
         sigma_max: f64::NAN,
         steps: 0,
         refactorized: false,
+        friction_held: false,
     };
     if !auto {
         return Ok(choice);
@@ -425,8 +447,13 @@ pub fn choose<C: Communicator>(
     let Some((lo, hi, steps)) = spectrum(world, problem, restraint, mesh, monitor)? else {
         return Ok(choice);
     };
-    let estimate = 1.0 / (lo * hi).sqrt();
-    choice.estimate = estimate;
+    let spectral = 1.0 / (lo * hi).sqrt();
+    choice.estimate = spectral;
+    choice.friction_held = problem.tangential && restraint.friction_held.is_some();
+    let estimate = match choice.friction_held {
+        true => spectral / FRICTION_HELD,
+        false => spectral,
+    };
     choice.sigma_min = lo;
     choice.sigma_max = hi;
     choice.steps = steps;
