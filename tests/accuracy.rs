@@ -716,11 +716,16 @@ fn inexact_solves_do_not_stall_anderson() {
 /// 500 iterations ("the residual stays flat"; its best was the warm start's
 /// first evaluation, before the new bound acted) and told to try
 /// -ubr_anderson 0, which it ran. Now it runs to -ubr_max_it, says so, and
-/// names the Anderson acceleration; the default converges.
+/// names the Anderson acceleration; the default converges. (At the
+/// spectral estimate of r: a third of it, the default where friction alone
+/// holds a rigid motion, lets the plain iteration converge in 12969.)
 #[test]
 fn a_slow_plain_iteration_is_not_called_stalled() {
     let name = "stamp2d_gravity_coulomb";
-    let plain = run(name, 1, &["-ubr_anderson", "0"]);
+    let default = run(name, 1, &[]);
+    assert!(default.converged(), "{}", default.summary());
+    let estimate = format!("{}", default.num("r_estimate").unwrap());
+    let plain = run(name, 1, &["-ubr_anderson", "0", "-ubr_r", &estimate]);
     assert_eq!(plain.status, Some(3), "{}", plain.summary());
     let why = plain.failure_line();
     assert!(
@@ -730,7 +735,6 @@ fn a_slow_plain_iteration_is_not_called_stalled() {
             && !why.contains("try -ubr_anderson 0"),
         "{why}"
     );
-    assert!(run(name, 1, &[]).converged());
     // At -ubr_r 1e6 (31x the trial r) a Tresca solve's residual floor is
     // 2e-12, above what counts as round-off (1e-12): it stalled there, its
     // estimate 6.9e-11 within the outer target 2.5e-10 but not the inner
