@@ -52,18 +52,18 @@ pub const WINDOW: f64 = 3.0;
 /// the spectral estimate divided by this. The rule balances the modes of
 /// the compliance; such a motion is none of them (K does not see it, and
 /// the estimate deflates it), and only the sticking nodes hold it, at a
-/// stiffness of r. Measured at fixed r, multiples of the estimate (1
-/// rank, 2026-11-29): the Hertz quarter free along x and rolling, Tresca
-/// s 2-20 under sideways loads 0.5-8 (20 scenes): 7 failed and 41316
-/// iterations at 1x, 4 and 24641 at 1/2, 2 and 12631 at 1/3, 0 and 4824
-/// at 1/10; Coulomb 0.28-0.32 under 10-28 (36): 1 failed each (the load
-/// at what friction can hold), 47376 Tresca iterations at 1x, 24404 at
-/// 1/3; the quarter held by uy = 0 only, Tresca (12): 2729, 805, 851 at 1x,
-/// 1/3, 1/10; Coulomb (30, 4 failing at 1x, 1/3, 1/10 alike: loads beyond
-/// what friction holds): 15584, 13104, 16665; a round-nosed 2D block and a
-/// 3D dome on a tilted plane, Coulomb: 279/261, 308/287, 217/130, 178/126
-/// at 1x/(1/3). Bodies held by Dirichlet conditions keep the estimate
-/// (block3d Coulomb: 68 iterations at 1x, 97 at 1/3).
+/// stiffness of r. Measured at fixed multiples of the estimate (1 rank,
+/// 2026-11-29, `bench/friction_held/run.sh`: failures and iterations summed
+/// over each grid): the Hertz quarter free along x and rolling, Tresca (21
+/// scenes): 6 failed and 39683 iterations at 1x, 2 and 16327 at 1/3, 1 and
+/// 5427 at 1/10; the same, Coulomb (36): 2 and 63713 Tresca iterations, 0
+/// and 25566, 0 and 16685; the quarter held by uy = 0 only, Coulomb (30, 4
+/// failing at every r: loads beyond what friction holds): 16154, 12061,
+/// 17097. A third is never far from the best; a tenth loses on the last.
+/// A round-nosed 2D block and a 3D dome on a tilted plane, Coulomb: 279/261,
+/// 308/287, 217/130, 178/126 iterations at 1x/0.3. Bodies held by Dirichlet
+/// conditions keep the estimate (block3d Coulomb: 68 iterations at 1x, 97
+/// at 0.3).
 pub const FRICTION_HELD: f64 = 3.0;
 
 /// Where r came from, for the summary and the report (`r_source`).
