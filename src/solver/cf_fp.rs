@@ -297,7 +297,7 @@ struct Good {
 /// quarter without its symmetry condition, Coulomb 0.3, pushed sideways by
 /// a quarter of its normal load: on 2 ranks, about one run in ten failed
 /// after four plain halvings, its good bounds slipping everywhere, now
-/// none in 20; on 1 rank 5 of 36 sideways loads from 10 to 28 and
+/// none in 50; on 1 rank 5 of 36 sideways loads from 10 to 28 and
 /// coefficients from 0.28 to 0.32 failed, now only 28 at 0.28, the load
 /// friction can just hold.) A sticking start (infinite s) goes back to
 /// the bound `|lambda_t|` of its solution (the Hertz quarter held by uy = 0
