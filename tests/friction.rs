@@ -435,33 +435,39 @@ fn a_quarter_that_rolls_is_solved() {
     for (side, nu) in [("10", "0.3"), ("25", "0.3"), ("26", "0.28"), ("27", "0.28")] {
         let load = format!("{side},-100");
         let coulomb = ["-friction", "coulomb", "-friction_coefficient", nu];
-        let args = |extra: &[&'static str]| {
-            let mut v = hertz_free_x("meshes/hertz_1692.msh", &load, &coulomb);
-            v.extend_from_slice(extra);
-            v
-        };
-        let tight = args(&["-ubr_r", "500", "-ubr_lambda_rtol", "1e-9"]);
-        let (run, rep, reference) = solve_rows("rolls tight", 1, &tight);
-        assert!(rep.converged, "{side}: {}", run.stdout);
+        let args = hertz_free_x("meshes/hertz_1692.msh", &load, &coulomb);
         let ranks: &[usize] = if nu == "0.3" { &[1, 2] } else { &[1] };
-        for &ranks in ranks {
-            let (run, rep, rows) = solve_rows("rolls", ranks, &args(&[]));
-            assert!(
-                rep.converged,
-                "{side}, {ranks} ranks: {}\n{}",
-                run.stdout, run.stderr
-            );
-            let gap = max_stress_gap(&rows, &reference);
-            assert!(gap <= 1e-3, "{side}, {ranks} ranks: error {gap:.2e}");
-            // s = nu_f |lambda_n| to the target (not a halved bound whose
-            // solution came again).
-            let change = rep.fixed_point_change.unwrap_or(f64::NAN);
-            assert!(
-                change <= 1e-3,
-                "{side}, {ranks} ranks: change of s {change:.2e}"
-            );
+        let label = format!("rolls {side} {nu}");
+        for (_, rep) in against_tight(&label, &args, "500", ranks) {
+            fixed_point_of_s(&label, &rep);
         }
     }
+}
+
+/// `args` (the scene) at the defaults on each of `ranks`, each converged and
+/// within 1e-3 of a tight one-rank run of it at `-ubr_r tight_r`
+/// (`-ubr_lambda_rtol 1e-9`); each run and report, for further checks.
+fn against_tight(label: &str, args: &[&str], tight_r: &str, ranks: &[usize]) -> Vec<(Run, Report)> {
+    let mut tight = args.to_vec();
+    tight.extend_from_slice(&["-ubr_r", tight_r, "-ubr_lambda_rtol", "1e-9"]);
+    let (run, rep, reference) = solve_rows(&format!("{label} tight"), 1, &tight);
+    assert!(rep.converged, "{label}: {}", run.stdout);
+    let mut out = Vec::new();
+    for &n in ranks {
+        let (run, rep, rows) = solve_rows(label, n, args);
+        assert!(rep.converged, "{label}, {n} ranks: {}", run.context());
+        let gap = max_stress_gap(&rows, &reference);
+        assert!(gap <= 1e-3, "{label}, {n} ranks: error {gap:.2e}");
+        out.push((run, rep));
+    }
+    out
+}
+
+/// CF-FP stopped at a fixed point: s = nu_f |lambda_n| to the target (not a
+/// halved bound whose solution came again).
+fn fixed_point_of_s(label: &str, rep: &Report) {
+    let change = rep.fixed_point_change.unwrap_or(f64::NAN);
+    assert!(change <= 1e-3, "{label}: change of s {change:.2e}");
 }
 
 /// The Hertz quarter held by uy = 0 on its cut and by friction alone along
@@ -473,20 +479,8 @@ fn a_quarter_that_rolls_is_solved() {
 /// 1, 2 and 3 ranks agree with a tight run.
 #[test]
 fn a_tresca_bound_just_above_the_load_is_solved() {
-    let args = |extra: &[&'static str]| {
-        let mut v = hertz_sideways_held_y(&["-friction", "tresca", "-tresca_bound", "22"]);
-        v.extend_from_slice(extra);
-        v
-    };
-    let tight = args(&["-ubr_r", "500", "-ubr_lambda_rtol", "1e-9"]);
-    let (run, rep, reference) = solve_rows("s22 tight", 1, &tight);
-    assert!(rep.converged, "{}", run.stdout);
-    for ranks in [1, 2, 3] {
-        let (run, rep, rows) = solve_rows("s22", ranks, &args(&[]));
-        assert!(rep.converged, "{ranks} ranks: {}", run.context());
-        let gap = max_stress_gap(&rows, &reference);
-        assert!(gap <= 1e-3, "{ranks} ranks: error {gap:.2e}");
-    }
+    let args = hertz_sideways_held_y(&["-friction", "tresca", "-tresca_bound", "22"]);
+    against_tight("s22", &args, "500", &[1, 2, 3]);
 }
 
 /// The same quarter under Coulomb friction: CF-FP starts sticking, and the
@@ -499,25 +493,11 @@ fn a_tresca_bound_just_above_the_load_is_solved() {
 #[test]
 fn a_sticking_start_is_a_bound_to_go_back_to() {
     for nu in ["0.15", "0.5"] {
-        let args = |extra: &[&'static str]| {
-            let mut v = hertz_sideways_held_y(&["-friction", "coulomb"]);
-            v.extend_from_slice(&["-friction_coefficient", nu]);
-            v.extend_from_slice(extra);
-            v
-        };
-        let tight = args(&["-ubr_r", "500", "-ubr_lambda_rtol", "1e-9"]);
-        let (run, rep, reference) = solve_rows("held y tight", 1, &tight);
-        assert!(rep.converged, "{nu}: {}", run.stdout);
-        for ranks in [1, 2] {
-            let (run, rep, rows) = solve_rows("held y", ranks, &args(&[]));
-            assert!(rep.converged, "{nu}, {ranks} ranks: {}", run.context());
-            let gap = max_stress_gap(&rows, &reference);
-            assert!(gap <= 1e-3, "{nu}, {ranks} ranks: error {gap:.2e}");
-            let change = rep.fixed_point_change.unwrap_or(f64::NAN);
-            assert!(
-                change <= 1e-3,
-                "{nu}, {ranks} ranks: change of s {change:.2e}"
-            );
+        let mut args = hertz_sideways_held_y(&["-friction", "coulomb"]);
+        args.extend_from_slice(&["-friction_coefficient", nu]);
+        let label = format!("held y {nu}");
+        for (_, rep) in against_tight(&label, &args, "500", &[1, 2]) {
+            fixed_point_of_s(&label, &rep);
         }
     }
 }
@@ -532,27 +512,13 @@ fn a_sticking_start_is_a_bound_to_go_back_to() {
 #[test]
 fn friction_held_bodies_take_a_third_of_the_spectral_r() {
     let tresca = ["-friction", "tresca", "-tresca_bound", "5"];
-    let args = |extra: &[&'static str]| {
-        let mut v = hertz_free_x("meshes/hertz_1692.msh", "1,-100", &tresca);
-        v.extend_from_slice(extra);
-        v
-    };
-    let tight = args(&["-ubr_r", "200", "-ubr_lambda_rtol", "1e-9"]);
-    let (run, rep, reference) = solve_rows("held by friction tight", 1, &tight);
-    assert!(rep.converged, "{}", run.stdout);
-    for ranks in [1, 2] {
-        let (run, rep, rows) = solve_rows("held by friction", ranks, &args(&[]));
-        assert!(rep.converged, "{ranks} ranks: {}", run.context());
+    let args = hertz_free_x("meshes/hertz_1692.msh", "1,-100", &tresca);
+    for (run, rep) in against_tight("held by friction", &args, "200", &[1, 2]) {
         let ratio = rep.r / rep.r_estimate;
-        assert!(
-            (ratio - 1.0 / 3.0).abs() < 1e-12,
-            "{ranks} ranks: r / estimate {ratio}"
-        );
+        assert!((ratio - 1.0 / 3.0).abs() < 1e-12, "r / estimate {ratio}");
         assert!(run
             .stdout
             .contains("divided by 3: friction alone holds a rigid motion"));
-        let gap = max_stress_gap(&rows, &reference);
-        assert!(gap <= 1e-3, "{ranks} ranks: error {gap:.2e}");
     }
     let (run, rep, _) = solve_rows(
         "held by ux = 0",
