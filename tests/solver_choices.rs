@@ -190,3 +190,41 @@ fn preconditioner_failure_in_words() {
         &["preconditioner failure reason 6: a preconditioner inside it failed"],
     );
 }
+
+/// A stall of an iterative solver's run on a body that Dirichlet conditions
+/// hold is not blamed on sliding: the generated block (pressed by its top
+/// face) with a Tresca bound far below its pressures slips at every contact
+/// node, and CG + GAMG cannot reach a tangential error of 1e-10 relative to
+/// that bound (flat at about 1e-9; the message said "the body slides or
+/// rolls", which the top face's condition forbids). It names the solves.
+#[test]
+fn a_stall_of_iterative_solves_is_not_called_sliding() {
+    let run = mpirun(
+        1,
+        &[
+            "-options_file",
+            "options/block3d",
+            "-mesh_generate",
+            "block3d",
+            "-mesh_h",
+            "0.1",
+            "-friction",
+            "tresca",
+            "-tresca_bound",
+            "0.05",
+            "-ksp_type",
+            "cg",
+            "-pc_type",
+            "gamg",
+            "-ubr_lambda_rtol",
+            "1e-10",
+        ],
+    );
+    assert_eq!(run.status, Some(3), "{}", run.context());
+    let lines = run.stderr_with("not converged:");
+    assert_eq!(lines.len(), 1, "{}", run.context());
+    for needle in ["stalled", "the iterative solver's solves", "the direct solver"] {
+        assert!(lines[0].contains(needle), "'{needle}' not in {}", lines[0]);
+    }
+    assert!(!lines[0].contains("slides or rolls"), "{}", lines[0]);
+}

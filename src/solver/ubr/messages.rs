@@ -17,6 +17,16 @@ pub fn names_far_r(message: &str) -> bool {
     message.contains("(-ubr_r) is") && message.contains("times the trial r0")
 }
 
+/// What a stalled run's cause depends on besides its numbers.
+pub(super) struct StallScene {
+    /// Every contact node slipping explains a stall: friction acts and some
+    /// rigid motion is free of Dirichlet conditions (the body can slide or
+    /// roll).
+    pub slides: bool,
+    /// The solves are an iterative solver's.
+    pub inexact: bool,
+}
+
 /// The message of a run stopped because it made no progress: what it
 /// stalled at, and the likely cause.
 pub(super) fn stalled(
@@ -26,8 +36,9 @@ pub(super) fn stalled(
     r: f64,
     acc: &Accuracy,
     progress: &Progress,
-    friction: bool,
+    scene: StallScene,
 ) -> String {
+    let StallScene { slides, inexact } = scene;
     let its = out.iterations;
     let target = if ctl.stop == StopRule::Paper {
         format!(
@@ -46,7 +57,7 @@ pub(super) fn stalled(
     } else {
         "the default Anderson acceleration (-ubr_anderson 10)"
     };
-    let cause = if friction && out.contact > 0 && out.stick == 0 {
+    let cause = if slides && out.contact > 0 && out.stick == 0 {
         format!(
             "every one of the {} contact nodes slips: the bound s cannot hold the loads, their tangential part or their moment, and the body slides or rolls (with Coulomb friction: friction cannot hold the loads with the pressures this body develops; lower the tangential load or raise -friction_coefficient)",
             out.contact
@@ -59,6 +70,11 @@ pub(super) fn stalled(
         format!(
             "contact statuses changed {} times in those iterations: the contact set cycles between states, as when the contact zone is a few nodes or a point smaller than a cell; refine the mesh where the body touches, or loosen -ubr_lambda_rtol",
             progress.changes
+        )
+    } else if inexact {
+        format!(
+            "{} nodes touch the obstacle and the contact set has settled, yet the residual stays flat: the iterative solver's solves (their tolerance and round-off) set a floor above the target; loosen -ubr_lambda_rtol, or use the direct solver (the default: MUMPS, condensed on the contact unknowns)",
+            out.contact
         )
     } else {
         format!(

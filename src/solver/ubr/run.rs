@@ -4,7 +4,7 @@
 //! tests.
 
 use super::measures::{z_weights, Maxima, Sums};
-use super::messages::{failure, roundoff, stalled};
+use super::messages::{failure, roundoff, stalled, StallScene};
 use super::{tangential_from_whole, whole_displacement, Pending};
 use super::{UbrControl, UbrOutcome, Whole, DRIFT_ITS, INNER_FACTOR_MIN, TANGENTIAL_FLOOR};
 use crate::comm::{allreduce_max, allreduce_max_n, allreduce_sum};
@@ -870,8 +870,15 @@ impl<'a, C: Communicator> Run<'a, C> {
             out.failure = Some(if out.roundoff {
                 roundoff(name, ctl, &out, &self.acc, &self.progress)
             } else if self.progress.since >= STALL_ITS {
-                let friction = self.friction_bound.is_some() && !self.no_friction;
-                stalled(name, ctl, &out, r, &self.acc, &self.progress, friction)
+                // Slipping everywhere explains a stall only where the body
+                // can move rigidly: some rigid motion that no Dirichlet
+                // condition holds (a finite drift limit).
+                let slides = self.friction_bound.is_some()
+                    && !self.no_friction
+                    && ctl.drift_limit.is_finite();
+                let inexact = self.lin.iterative;
+                let scene = StallScene { slides, inexact };
+                stalled(name, ctl, &out, r, &self.acc, &self.progress, scene)
             } else {
                 failure(name, ctl, &out, r, &self.acc)
             });
