@@ -296,36 +296,32 @@ pub fn unpaired<C: Communicator>(
         return touches;
     }
     let nb = bodies.len();
-    // joined[a * nb + b]: some pair's slave nodes lie in part a and its
-    // master nodes in part b.
-    let mut joined = vec![0.0; nb * nb];
-    let parts_of = |name: &str| -> Vec<usize> {
-        let mut parts: Vec<usize> = mesh
-            .group(name)
-            .map(|g| {
-                g.conn
-                    .nodes()
-                    .iter()
-                    .map(|&v| bodies.node_body[v])
-                    .collect()
-            })
-            .unwrap_or_default();
-        parts.sort_unstable();
-        parts.dedup();
-        parts
-    };
-    for (s, m) in pairs {
-        let (ps, pm) = (parts_of(s), parts_of(m));
-        for &a in &ps {
-            for &b in &pm {
-                joined[a * nb + b] = 1.0;
-                joined[b * nb + a] = 1.0;
+    // The parts that hold each pair's slave and master facets, over every
+    // rank: a rank may hold facets of one side alone (a partition between
+    // the bodies), so the sides are gathered before they are joined.
+    let mut sides = vec![0.0; 2 * pairs.len() * nb];
+    for (k, name) in pairs.iter().flat_map(|(s, m)| [s, m]).enumerate() {
+        if let Some(g) = mesh.group(name) {
+            for &v in g.conn.nodes() {
+                sides[k * nb + bodies.node_body[v]] = 1.0;
             }
         }
     }
-    let joined = crate::comm::allreduce_max_vec(world, &joined);
+    let sides = crate::comm::allreduce_max_vec(world, &sides);
+    // joined[a * nb + b]: some pair's slave nodes lie in part a and its
+    // master nodes in part b.
+    let mut joined = vec![false; nb * nb];
+    for pair in sides.chunks_exact(2 * nb) {
+        let (slave, master) = pair.split_at(nb);
+        for a in (0..nb).filter(|&a| slave[a] > 0.0) {
+            for b in (0..nb).filter(|&b| master[b] > 0.0) {
+                joined[a * nb + b] = true;
+                joined[b * nb + a] = true;
+            }
+        }
+    }
     touches
         .into_iter()
-        .filter(|t| joined[t.a * nb + t.b] == 0.0)
+        .filter(|t| !joined[t.a * nb + t.b])
         .collect()
 }

@@ -840,3 +840,45 @@ fn cylinders_of_two_materials_follow_hertz() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A pair whose two sides lie on different ranks is still a pair: the
+/// punch pressed on the base (tests/pairs/punch3d.geo) on 2 ranks split by
+/// METIS, where one rank holds the punch's bottom and the other the base's
+/// top. The set-up's check for parts that touch set aside only the pairs
+/// whose two sides some one rank held, and warned that the two bodies
+/// "pass through each other freely" (contact between bodies not modelled)
+/// on a run that modelled it. No warning now, and the answer is one rank's.
+#[test]
+fn a_pair_split_between_ranks_is_no_touching_warning() {
+    let dir = scratch("pairs-split");
+    let msh = dir.join("punch3d.msh");
+    gmsh("-3", "tests/pairs/punch3d.geo", &msh, &[]);
+    let args = |partition: &'static str| {
+        vec![
+            "-mesh",
+            msh.to_str().unwrap(),
+            "-E",
+            "1000",
+            "-nu",
+            "0.3",
+            "-dirichlet_bottom",
+            "ux=0,uy=0,uz=0",
+            "-dirichlet_ptop",
+            "ux=0,uy=0,uz=-0.01",
+            "-contact_pair",
+            "pbot,btop",
+            "-ubr_lambda_rtol",
+            "1e-8",
+            "-partition",
+            partition,
+        ]
+    };
+    let (_, _, one) = solve_rows("punch-1", 1, &args("metis"));
+    let (run, report, rows) = solve_rows("punch-2", 2, &args("metis"));
+    assert!(report.converged, "{}", run.stdout);
+    assert!(run.stdout.contains("METIS"), "{}", run.stdout);
+    assert!(!run.stderr.contains("not modelled"), "{}", run.stderr);
+    let gap = max_pressure_gap(&rows, &one);
+    assert!(gap < 1e-6, "2 ranks {gap:.2e} from one");
+    let _ = std::fs::remove_dir_all(&dir);
+}

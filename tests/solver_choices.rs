@@ -223,7 +223,11 @@ fn a_stall_of_iterative_solves_is_not_called_sliding() {
     assert_eq!(run.status, Some(3), "{}", run.context());
     let lines = run.stderr_with("not converged:");
     assert_eq!(lines.len(), 1, "{}", run.context());
-    for needle in ["stalled", "the iterative solver's solves", "the direct solver"] {
+    for needle in [
+        "stalled",
+        "the iterative solver's solves",
+        "the direct solver",
+    ] {
         assert!(lines[0].contains(needle), "'{needle}' not in {}", lines[0]);
     }
     assert!(!lines[0].contains("slides or rolls"), "{}", lines[0]);
