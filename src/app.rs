@@ -690,6 +690,9 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             &self.events,
         );
         self.times.iterations = t.elapsed().as_secs_f64();
+        for w in std::mem::take(&mut problem.lin.warnings) {
+            self.warn(w);
+        }
         let (state, solved) = solved?;
         Ok(Solution { state, solved })
     }

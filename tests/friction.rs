@@ -529,3 +529,31 @@ fn friction_held_bodies_take_a_third_of_the_spectral_r() {
     assert_eq!(rep.r, rep.r_estimate, "{}", run.stdout);
     assert!(!run.stdout.contains("divided by"));
 }
+
+/// A Tresca solve of a friction-held body that stalls goes on at a lower
+/// r: the rolling Hertz quarter under Tresca s = 2 and a sideways traction
+/// of 2 (against 100 down) stalled at the automatic r (estimate / 3) after
+/// 3208 iterations, exit 3; it now goes on from its last iterate at r / 3,
+/// then r / 9, and converges (about 4,400 iterations in all), on 1 and 2
+/// ranks within the target of a tight run. The warning and the summary's
+/// r line say so; the run that converges at the automatic r is unchanged.
+#[test]
+fn a_stalled_friction_held_tresca_solve_goes_on_at_a_lower_r() {
+    let tresca = ["-friction", "tresca", "-tresca_bound", "2"];
+    let args = hertz_free_x("meshes/hertz_1692.msh", "2,-100", &tresca);
+    for (run, rep) in against_tight("rolling s2", &args, "80", &[1, 2]) {
+        assert!(rep.r < rep.r_estimate / 3.0 * (1.0 - 1e-9), "r {}", rep.r);
+        assert_eq!(
+            run.stderr_with("UBR-TF stalled at r =").len(),
+            1,
+            "{}",
+            run.stderr
+        );
+        assert!(run.stdout.contains("after a stall"), "{}", run.stdout);
+    }
+    let tresca = ["-friction", "tresca", "-tresca_bound", "5"];
+    let args = hertz_free_x("meshes/hertz_1692.msh", "2,-100", &tresca);
+    let (run, rep, _) = solve_rows("rolling s5", 1, &args);
+    assert!(rep.converged, "{}", run.stdout);
+    assert!(!run.stdout.contains("after a stall"), "{}", run.stdout);
+}

@@ -311,6 +311,9 @@ impl<C: Communicator> ContactProblem<'_, C> {
                     }
                 }
             };
+            for w in std::mem::take(&mut problem.lin.warnings) {
+                self.warn(format!("{label}: {w}"));
+            }
             // Without a per-step output, a step's whole displacement, its
             // forces and rows are not made (the last step's are, by the run).
             let stop = !sol.solved.converged;

@@ -227,8 +227,16 @@ fn algorithm(m: &Results) {
         );
     } else {
         let r = m.problem.r();
+        // A stalled Tresca solve of a friction-held body went on at a
+        // lower r (a warning says so).
+        let lowered = match m.choice {
+            Some(c) if c.source == penalty::Source::Auto && r < c.r => {
+                format!(", lowered to r / {:.0} after a stall", c.r / r)
+            }
+            _ => String::new(),
+        };
         println!(
-            "  r               {:.6e} (r/E = {}; {})",
+            "  r               {:.6e} (r/E = {}; {}{lowered})",
             r,
             // E of the stiffest body (the global E with one material).
             significant(r / s.stiffest(m.local.dim).young, 5),

@@ -161,6 +161,9 @@ pub struct UbrOutcome {
     /// or less): as accurate as double precision gives, its estimate above
     /// the target.
     pub roundoff: bool,
+    /// Stopped because its best residual made no progress for
+    /// `STALL_ITS` iterations (not at round-off).
+    pub stalled: bool,
     /// A run of [`UbrControl::defer_whole`]: what its whole displacement is
     /// made from (None: made already, or nothing to make).
     pub pending: Option<Pending>,

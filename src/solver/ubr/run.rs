@@ -870,6 +870,7 @@ impl<'a, C: Communicator> Run<'a, C> {
             out.failure = Some(if out.roundoff {
                 roundoff(name, ctl, &out, &self.acc, &self.progress)
             } else if self.progress.since >= STALL_ITS {
+                out.stalled = true;
                 // Slipping everywhere explains a stall only where the body
                 // can move rigidly: some rigid motion that no Dirichlet
                 // condition holds (a finite drift limit).
