@@ -232,3 +232,86 @@ fn a_stall_of_iterative_solves_is_not_called_sliding() {
     }
     assert!(!lines[0].contains("slides or rolls"), "{}", lines[0]);
 }
+
+/// Krylov tolerances that leave nothing to solve: `-ksp_rtol 1` ended every
+/// solve before its first iteration (PETSc 3.18 takes it) and UBR ran
+/// 10,000 iterations on a displacement that never changed, exit 3 with an
+/// error estimate of 4e137; refused now (exit 2, one line), with a
+/// negative `-ksp_rtol` or `-ksp_atol` and a `-ksp_max_it` below 1. A
+/// `-ksp_atol` above the model's residuals did the same, a value that can
+/// be right in other units: the run stops after 20 such solves in a row,
+/// naming the tolerances (exit 3), and an answer of such solves that
+/// violates equilibrium is no answer (exit 3); a small one converges.
+#[test]
+fn krylov_tolerances_that_solve_nothing() {
+    let gamg = |extra: &[&'static str]| {
+        let mut v = hertz(&["-ksp_type", "cg", "-pc_type", "gamg"]);
+        v.extend_from_slice(extra);
+        v
+    };
+    for (ranks, option, value, needle) in [
+        (1, "-ksp_rtol", "1", "is not in [0, 1)"),
+        (2, "-ksp_rtol", "-0.1", "is not in [0, 1)"),
+        (1, "-ksp_atol", "-1", "is not a non-negative number"),
+        (
+            2,
+            "-ksp_max_it",
+            "0",
+            "is not a positive number of iterations",
+        ),
+    ] {
+        let run = mpirun(ranks, &gamg(&[option, value]));
+        run.refused(option, 2, &[&format!("option {option}: {value}"), needle]);
+    }
+    // The punch on the base (tests/pairs/punch3d.geo) at -ksp_atol 1e-3:
+    // the solves end at the start and UBR's stresses grow; the Hertz scene
+    // at 1e6: the first solve too, u stays 0 and UBR "converged" to no
+    // contact at all (exit 0 before), an answer that violates equilibrium.
+    let dir = scratch("solves-nothing");
+    let msh = dir.join("punch3d.msh");
+    gmsh("-3", "tests/pairs/punch3d.geo", &msh, &[]);
+    let punch = [
+        "-mesh",
+        msh.to_str().unwrap(),
+        "-E",
+        "1000",
+        "-nu",
+        "0.3",
+        "-dirichlet_bottom",
+        "ux=0,uy=0,uz=0",
+        "-dirichlet_ptop",
+        "ux=0,uy=0,uz=-0.01",
+        "-contact_pair",
+        "pbot,btop",
+        "-ksp_type",
+        "cg",
+        "-pc_type",
+        "gamg",
+        "-ksp_atol",
+        "1e-3",
+    ];
+    let hertz_1e6 = gamg(&["-ksp_atol", "1e6"]);
+    for (ranks, args, needle) in [
+        (1, &punch[..], "before its first iteration"),
+        (2, &punch[..], "before its first iteration"),
+        (
+            1,
+            &hertz_1e6[..],
+            "violates equilibrium (relative residual 1.0e0)",
+        ),
+        (
+            2,
+            &hertz_1e6[..],
+            "violates equilibrium (relative residual 1.0e0)",
+        ),
+    ] {
+        let run = mpirun(ranks, args);
+        assert_eq!(run.status, Some(3), "{}", run.context());
+        let lines = run.stderr_with(needle);
+        assert_eq!(lines.len(), 1, "{}", run.context());
+        assert!(lines[0].contains("-ksp_atol"), "{}", lines[0]);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    let run = mpirun(1, &gamg(&["-ksp_atol", "1e-9"]));
+    assert_eq!(run.status, Some(0), "{}", run.context());
+}

@@ -85,7 +85,21 @@ pub struct LinearSolver {
     /// What the run's warnings should say of the solver (the application
     /// takes them).
     pub warnings: Vec<String>,
+    /// Consecutive UBR solves an iterative solver ended before its first
+    /// iteration ([`IDLE_SOLVES`]).
+    idle: usize,
 }
+
+/// UBR solves in a row that an iterative solver may end before its first
+/// iteration (its tolerances met by the start, the previous displacement)
+/// before the run stops: the displacement no longer follows the contact
+/// stresses. A `-ksp_atol` above the residuals of the run's units did it
+/// (`-ksp_atol 1e10` on a 3D pair of blocks: every solve ended at 0
+/// iterations, UBR ran to -ubr_max_it, 10,000, its relative residual
+/// falling as 1/k while the stresses grew without bound). The program's
+/// own tolerances (relative to each solve's start) meet it only where a
+/// start is exact, when UBR has converged.
+const IDLE_SOLVES: usize = 20;
 
 /// The Schur components `comps` of each candidate of `v` (`dim` values
 /// each) into `out`.
@@ -147,6 +161,7 @@ impl LinearSolver {
             rtol: f64::NAN,
             scratch: (Vec::new(), Vec::new()),
             warnings: Vec::new(),
+            idle: 0,
         })
     }
 
@@ -303,6 +318,14 @@ impl LinearSolver {
         self.rhs.copy_from(&self.rhs0)?;
         scatter_add(surface, c, &self.rhs)?;
         let its = self.full_solve(true, u)?;
+        if self.iterative {
+            self.idle = if its == 0 { self.idle + 1 } else { 0 };
+            if self.idle >= IDLE_SOLVES {
+                return Err(Error::NotConverged(format!(
+                    "the iterative solver ended each of the last {IDLE_SOLVES} solves before its first iteration: its tolerances (-ksp_atol, -ksp_rtol) are met where each starts, so the displacement no longer follows the contact stresses; lower -ksp_atol below the residuals of the model's units, or leave the tolerances to the program (each solve reduces its starting residual by -ubr_inner_rtol_factor)"
+                )));
+            }
+        }
         extract(surface, u, uc)?;
         Ok(its)
     }

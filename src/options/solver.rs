@@ -45,6 +45,7 @@ pub fn check(ranks: usize) -> Result<Vec<String>, Error> {
         known("-pc_type", p, &registry::pc_types()?, "preconditioner")?;
     }
     factorization(pc.as_deref(), ranks)?;
+    tolerances()?;
     mumps_solve_controls()?;
     mumps_choices()?;
     registry::read_solver_options().map_err(|m| Error::BadInput(petsc_message(&m)))
@@ -180,6 +181,39 @@ pub fn given_ordering(linear: &LinearBackend, ubr: bool) -> Result<(), Error> {
         return bad(format!(
             "option -mat_mumps_icntl_7 1: the given ordering (METIS) needs MUMPS driven by ubr-petsc (UBR, -ksp_type preonly, -ubr_mumps_direct 1); PETSc's MUMPS interface, which {who} use, cannot pass one: choose 0 (AMD), 2 (AMF), 4 (PORD), 6 (QAMD) or 7 (automatic)"
         ));
+    }
+    Ok(())
+}
+
+/// The Krylov method's tolerances that leave nothing to solve, refused
+/// (PETSc 3.18 takes them without a word): `-ksp_rtol` 1 or more ended
+/// every solve before its first iteration and UBR ran to -ubr_max_it on a
+/// displacement that never changed (exit 3 after 10,000 iterations, its
+/// error estimate 4e137); a negative `-ksp_rtol` or `-ksp_atol` and a
+/// `-ksp_max_it` below 1 have no meaning. (Values PETSc cannot read are
+/// its own read's to name.)
+fn tolerances() -> Result<(), Error> {
+    let number = |name: &str| -> Result<Option<(String, f64)>, Error> {
+        Ok(word(name)?.and_then(|w| w.parse::<f64>().ok().map(|x| (w, x))))
+    };
+    if let Some((w, x)) = number("-ksp_rtol")? {
+        if !(0.0..1.0).contains(&x) {
+            return bad(format!("option -ksp_rtol: {w} is not in [0, 1): the relative decrease of the residual each solve asks of the Krylov method (1 or more: no iteration at all)"));
+        }
+    }
+    if let Some((w, x)) = number("-ksp_atol")? {
+        if !(x >= 0.0 && x.is_finite()) {
+            return bad(format!(
+                "option -ksp_atol: {w} is not a non-negative number"
+            ));
+        }
+    }
+    if let Some((w, x)) = number("-ksp_max_it")? {
+        if x < 1.0 || x.is_nan() {
+            return bad(format!(
+                "option -ksp_max_it: {w} is not a positive number of iterations"
+            ));
+        }
     }
     Ok(())
 }
