@@ -315,3 +315,22 @@ fn krylov_tolerances_that_solve_nothing() {
     let run = mpirun(1, &gamg(&["-ksp_atol", "1e-9"]));
     assert_eq!(run.status, Some(0), "{}", run.context());
 }
+
+/// `-ksp_type preonly` with a preconditioner that approximates K^-1 solves
+/// nothing: it ended with exit 3 after a few iterations and the words "the
+/// body is not held" (the solves, not the scene, were wrong); refused now,
+/// exit 2, one line naming both options.
+#[test]
+fn preonly_with_an_approximate_preconditioner_is_refused() {
+    for (ranks, pc) in [(1, "jacobi"), (2, "gamg"), (2, "bjacobi")] {
+        let run = mpirun(ranks, &hertz(&["-ksp_type", "preonly", "-pc_type", pc]));
+        run.refused(
+            pc,
+            2,
+            &[
+                "option -ksp_type preonly",
+                &format!("-pc_type {pc} applied once"),
+            ],
+        );
+    }
+}
