@@ -319,7 +319,8 @@ fn krylov_tolerances_that_solve_nothing() {
 /// `-ksp_type preonly` with a preconditioner that approximates K^-1 solves
 /// nothing: it ended with exit 3 after a few iterations and the words "the
 /// body is not held" (the solves, not the scene, were wrong); refused now,
-/// exit 2, one line naming both options.
+/// exit 2, one line naming both options; so is a Krylov method without a
+/// norm (`-ksp_norm_type none`).
 #[test]
 fn preonly_with_an_approximate_preconditioner_is_refused() {
     for (ranks, pc) in [(1, "jacobi"), (2, "gamg"), (2, "bjacobi")] {
@@ -333,4 +334,11 @@ fn preonly_with_an_approximate_preconditioner_is_refused() {
             ],
         );
     }
+    // A Krylov method without a norm meets no tolerance (CG ran 274
+    // iterations to DIVERGED_INDEFINITE_MAT, exit 3); with the default
+    // factorization (preonly) the norm is none anyway.
+    let run = mpirun(2, &hertz(&["-pc_type", "gamg", "-ksp_norm_type", "none"]));
+    run.refused("norm none", 2, &["option -ksp_norm_type none"]);
+    let run = mpirun(1, &hertz(&["-ksp_norm_type", "none"]));
+    assert_eq!(run.status, Some(0), "{}", run.context());
 }

@@ -48,6 +48,16 @@ pub fn check(ranks: usize) -> Result<Vec<String>, Error> {
     if let (Some("preonly"), Some(p)) = (ksp.as_deref(), pc.as_deref()) {
         preonly(p)?;
     }
+    let krylov = match LinearBackend::of(pc.as_deref(), ksp.as_deref(), None, false) {
+        LinearBackend::Factorization { ksp, .. } | LinearBackend::Preconditioned { ksp, .. } => {
+            ksp != "preonly"
+        }
+    };
+    if krylov && word("-ksp_norm_type")?.as_deref() == Some("none") {
+        // CG without a norm never meets a tolerance: it ran 274 iterations
+        // to DIVERGED_INDEFINITE_MAT on the Hertz scene (exit 3).
+        return bad("option -ksp_norm_type none: the Krylov method then measures no residual and no solve meets its tolerance (each runs to -ksp_max_it or breaks down); leave the norm to the program (unpreconditioned for CG)".to_string());
+    }
     factorization(pc.as_deref(), ranks)?;
     tolerances()?;
     mumps_solve_controls()?;
