@@ -1,7 +1,7 @@
 //! Why a UBR run stopped without converging, in words.
 
 use super::{UbrControl, UbrOutcome};
-use crate::solver::stopping::{Accuracy, Progress, StopRule};
+use crate::solver::stopping::{Accuracy, Progress, StopRule, STALL_ITS};
 
 /// Words on an r far from the trial r0.
 pub(super) fn r_far_words(r: f64, r0: f64) -> String {
@@ -25,6 +25,22 @@ pub(super) struct StallScene {
     pub slides: bool,
     /// The solves are an iterative solver's.
     pub inexact: bool,
+    /// Of its last `STALL_ITS` solves, those it ended before their first
+    /// iteration (its tolerances met at the start).
+    pub idle: usize,
+}
+
+impl StallScene {
+    /// `inner`: the inner iterations of every solve so far.
+    pub(super) fn new(slides: bool, inexact: bool, inner: &[usize]) -> StallScene {
+        let recent = &inner[inner.len().saturating_sub(STALL_ITS)..];
+        let idle = recent.iter().filter(|&&i| i == 0).count();
+        StallScene {
+            slides,
+            inexact,
+            idle,
+        }
+    }
 }
 
 /// The message of a run stopped because it made no progress: what it
@@ -38,7 +54,11 @@ pub(super) fn stalled(
     progress: &Progress,
     scene: StallScene,
 ) -> String {
-    let StallScene { slides, inexact } = scene;
+    let StallScene {
+        slides,
+        inexact,
+        idle,
+    } = scene;
     let its = out.iterations;
     let target = if ctl.stop == StopRule::Paper {
         format!(
@@ -57,7 +77,11 @@ pub(super) fn stalled(
     } else {
         "the default Anderson acceleration (-ubr_anderson 10)"
     };
-    let cause = if slides && out.contact > 0 && out.stick == 0 {
+    let cause = if inexact && 3 * idle >= progress.since {
+        // -ksp_atol 100 on the Hertz scene: 0 and 1 inner iterations in
+        // turn, and the words blamed the contact set's cycling.
+        format!("the iterative solver ended {idle} of the last {} solves before their first iteration: its tolerances (-ksp_atol, -ksp_rtol) are met where they start, so the displacement hardly follows the contact stresses; lower -ksp_atol below the residuals of the model's units, or leave the tolerances to the program", progress.since)
+    } else if slides && out.contact > 0 && out.stick == 0 {
         format!(
             "every one of the {} contact nodes slips: the bound s cannot hold the loads, their tangential part or their moment, and the body slides or rolls (with Coulomb friction: friction cannot hold the loads with the pressures this body develops; lower the tangential load or raise -friction_coefficient)",
             out.contact

@@ -877,8 +877,8 @@ impl<'a, C: Communicator> Run<'a, C> {
                 let slides = self.friction_bound.is_some()
                     && !self.no_friction
                     && ctl.drift_limit.is_finite();
-                let inexact = self.lin.iterative;
-                let scene = StallScene { slides, inexact };
+                let (inexact, its) = (self.lin.iterative, &self.state.inner_iterations);
+                let scene = StallScene::new(slides, inexact, its);
                 stalled(name, ctl, &out, r, &self.acc, &self.progress, scene)
             } else {
                 failure(name, ctl, &out, r, &self.acc)
