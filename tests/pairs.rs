@@ -851,30 +851,10 @@ fn cylinders_of_two_materials_follow_hertz() {
 #[test]
 fn a_pair_split_between_ranks_is_no_touching_warning() {
     let dir = scratch("pairs-split");
-    let msh = dir.join("punch3d.msh");
-    gmsh("-3", "tests/pairs/punch3d.geo", &msh, &[]);
-    let args = |partition: &'static str| {
-        vec![
-            "-mesh",
-            msh.to_str().unwrap(),
-            "-E",
-            "1000",
-            "-nu",
-            "0.3",
-            "-dirichlet_bottom",
-            "ux=0,uy=0,uz=0",
-            "-dirichlet_ptop",
-            "ux=0,uy=0,uz=-0.01",
-            "-contact_pair",
-            "pbot,btop",
-            "-ubr_lambda_rtol",
-            "1e-8",
-            "-partition",
-            partition,
-        ]
-    };
-    let (_, _, one) = solve_rows("punch-1", 1, &args("metis"));
-    let (run, report, rows) = solve_rows("punch-2", 2, &args("metis"));
+    let msh = punch3d_mesh(&dir);
+    let args = punch3d_args(&msh, &["-ubr_lambda_rtol", "1e-8", "-partition", "metis"]);
+    let (_, _, one) = solve_rows("punch-1", 1, &args);
+    let (run, report, rows) = solve_rows("punch-2", 2, &args);
     assert!(report.converged, "{}", run.stdout);
     assert!(run.stdout.contains("METIS"), "{}", run.stdout);
     assert!(!run.stderr.contains("not modelled"), "{}", run.stderr);

@@ -14,6 +14,24 @@ fn hertz(extra: &[&'static str]) -> Vec<&'static str> {
     v
 }
 
+/// The generated block (h 0.1) with CG + GAMG, then `extra`.
+fn block3d_gamg(extra: &[&'static str]) -> Vec<&'static str> {
+    let mut v = vec![
+        "-options_file",
+        "options/block3d",
+        "-mesh_generate",
+        "block3d",
+        "-mesh_h",
+        "0.1",
+        "-ksp_type",
+        "cg",
+        "-pc_type",
+        "gamg",
+    ];
+    v.extend_from_slice(extra);
+    v
+}
+
 /// A Krylov method around the factorization (`-ksp_type gmres`, `cg -pc_type
 /// cholesky`, `richardson`) gets the inexact inner solves of the iterative
 /// solvers, measured against the residual each solve starts from: measured
@@ -167,23 +185,7 @@ fn mumps_ordering_replaced_is_named() {
 /// "preconditioner failure reason 6"; the reason is now in words.
 #[test]
 fn preconditioner_failure_in_words() {
-    let run = mpirun(
-        1,
-        &[
-            "-options_file",
-            "options/block3d",
-            "-mesh_generate",
-            "block3d",
-            "-mesh_h",
-            "0.1",
-            "-ksp_type",
-            "cg",
-            "-pc_type",
-            "gamg",
-            "-mg_levels_pc_type",
-            "sor",
-        ],
-    );
+    let run = mpirun(1, &block3d_gamg(&["-mg_levels_pc_type", "sor"]));
     run.refused(
         "SOR smoothers",
         3,
@@ -201,24 +203,14 @@ fn preconditioner_failure_in_words() {
 fn a_stall_of_iterative_solves_is_not_called_sliding() {
     let run = mpirun(
         1,
-        &[
-            "-options_file",
-            "options/block3d",
-            "-mesh_generate",
-            "block3d",
-            "-mesh_h",
-            "0.1",
+        &block3d_gamg(&[
             "-friction",
             "tresca",
             "-tresca_bound",
             "0.05",
-            "-ksp_type",
-            "cg",
-            "-pc_type",
-            "gamg",
             "-ubr_lambda_rtol",
             "1e-10",
-        ],
+        ]),
     );
     assert_eq!(run.status, Some(3), "{}", run.context());
     let lines = run.stderr_with("not converged:");
@@ -268,28 +260,11 @@ fn krylov_tolerances_that_solve_nothing() {
     // at 1e6: the first solve too, u stays 0 and UBR "converged" to no
     // contact at all (exit 0 before), an answer that violates equilibrium.
     let dir = scratch("solves-nothing");
-    let msh = dir.join("punch3d.msh");
-    gmsh("-3", "tests/pairs/punch3d.geo", &msh, &[]);
-    let punch = [
-        "-mesh",
-        msh.to_str().unwrap(),
-        "-E",
-        "1000",
-        "-nu",
-        "0.3",
-        "-dirichlet_bottom",
-        "ux=0,uy=0,uz=0",
-        "-dirichlet_ptop",
-        "ux=0,uy=0,uz=-0.01",
-        "-contact_pair",
-        "pbot,btop",
-        "-ksp_type",
-        "cg",
-        "-pc_type",
-        "gamg",
-        "-ksp_atol",
-        "1e-3",
-    ];
+    let msh = punch3d_mesh(&dir);
+    let punch = punch3d_args(
+        &msh,
+        &["-ksp_type", "cg", "-pc_type", "gamg", "-ksp_atol", "1e-3"],
+    );
     let hertz_1e6 = gamg(&["-ksp_atol", "1e6"]);
     // Between the two, 0 and 1 inner iterations in turn: a stall, whose
     // words blamed the contact set's cycling.

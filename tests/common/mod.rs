@@ -320,6 +320,36 @@ pub fn hertz_args<'a>(mesh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
     v
 }
 
+/// The punch pressed on the base (tests/pairs/punch3d.geo: two boxes meshed
+/// apart, the punch's bottom a contact pair's slave on the base's top),
+/// meshed into `dir`; returns the mesh's path.
+pub fn punch3d_mesh(dir: &Path) -> String {
+    let msh = dir.join("punch3d.msh");
+    gmsh("-3", "tests/pairs/punch3d.geo", &msh, &[]);
+    msh.to_str().unwrap().to_string()
+}
+
+/// The punch scene's options on `msh` (the base held at its bottom, the
+/// punch's top moved down by 0.01), then `extra`.
+pub fn punch3d_args<'a>(msh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec![
+        "-mesh",
+        msh,
+        "-E",
+        "1000",
+        "-nu",
+        "0.3",
+        "-dirichlet_bottom",
+        "ux=0,uy=0,uz=0",
+        "-dirichlet_ptop",
+        "ux=0,uy=0,uz=-0.01",
+        "-contact_pair",
+        "pbot,btop",
+    ];
+    v.extend_from_slice(extra);
+    v
+}
+
 /// options/hertz without its symmetry condition `ux = 0`, on `mesh`, with
 /// `traction` on the top edge: contact and friction alone hold the quarter
 /// (frictionless contact along n = -y holds nothing along x).
