@@ -557,3 +557,65 @@ fn a_stalled_friction_held_tresca_solve_goes_on_at_a_lower_r() {
     assert!(rep.converged, "{}", run.stdout);
     assert!(!run.stdout.contains("after a stall"), "{}", run.stdout);
 }
+
+/// A Tresca solve of CF-FP that stalls on a friction-held body goes on at
+/// a lower r: a ring on a plane under its own weight alone (no Dirichlet
+/// condition, no tangential load; tests/edges/ring2d.geo), Coulomb 0.3.
+/// The loose early Tresca solves slip at every contact node, the first at
+/// the full tolerance stalled at the automatic r, four halvings of the
+/// step stalled too, and the run ended with exit 3 and "the body slides or
+/// rolls" on 1 and 2 ranks. It now goes on with the same bound from its
+/// last iterate at r / 3 (three times at most), before any halving, and
+/// converges (about 2,000 Tresca iterations) to a state that meets
+/// Signorini's conditions and Coulomb's law; the warning and the
+/// summary's r line say so.
+#[test]
+fn a_stalled_friction_held_coulomb_solve_goes_on_at_a_lower_r() {
+    let (_dir, msh) = gmsh_2d("ring-weight", "tests/edges/ring2d.geo");
+    let args = [
+        "-mesh",
+        &msh,
+        "-E",
+        "1000",
+        "-nu",
+        "0.3",
+        "-body_force",
+        "0,-5",
+        "-contact_surface",
+        "outer",
+        "-contact_direction",
+        "0,-1",
+        "-obstacle",
+        "plane",
+        "-obstacle_point",
+        "0,0",
+        "-friction",
+        "coulomb",
+        "-friction_coefficient",
+        "0.3",
+    ];
+    for ranks in [1, 2] {
+        let (run, rep, rows) = solve_rows("ring-weight", ranks, &args);
+        assert!(rep.converged, "{ranks} ranks\n{}", run.context());
+        assert!(rep.r < rep.r_estimate / 3.0 * (1.0 - 1e-9), "r {}", rep.r);
+        let stalled = run.stderr_with("CF-FP: a Tresca solve stalled at r =");
+        assert_eq!(stalled.len(), 1, "{}", run.stderr);
+        assert!(
+            stalled[0].contains("the fixed point converged"),
+            "{}",
+            run.stderr
+        );
+        assert!(run.stdout.contains("after a stall"), "{}", run.stdout);
+        let sc = Scales::of(&rows, 0.0, 0.0);
+        check_signorini(&rows, sc, 1e-3).unwrap_or_else(|e| panic!("{ranks} ranks: {e}"));
+        check_friction(&rows, sc, 1e-3, 0.05, |x| 0.3 * x.lambda_n.max(0.0))
+            .unwrap_or_else(|e| panic!("{ranks} ranks: {e}"));
+        // The weight (5 x the ring's area 0.64 pi) rests on the contact.
+        let weight = 5.0 * 0.64 * std::f64::consts::PI;
+        let force: f64 = rows.iter().map(|x| x.weight * x.lambda_n).sum();
+        assert!(
+            (force / weight - 1.0).abs() < 1e-2,
+            "force {force}, weight {weight}"
+        );
+    }
+}

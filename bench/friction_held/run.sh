@@ -7,7 +7,10 @@
 #   FACTOR=0.1 ...                             # (explicit -ubr_r per scene)
 # Grids (1 rank): the quarter without ux = 0 (it rolls), Tresca s 2-20 under
 # sideways tractions 0.5-8 against 100 down; the same, Coulomb 0.28-0.32
-# under 10-28; the quarter held by uy = 0 only, Coulomb 0.1-1 under 5-40.
+# under 10-28; the quarter held by uy = 0 only, Coulomb 0.1-1 under 5-40;
+# a ring on a plane under its weight (tests/edges/ring2d.geo, meshed by
+# gmsh), sideways 0-1.5 against 5 down, Coulomb 0.1-0.6, pressure in its
+# hole -20, 0, 20.
 # Scenes the well-posedness check refuses (exit 2) are not counted.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
@@ -48,3 +51,9 @@ for t in 10 15 20 22 23 24 24.5 25 25.5 26 27 28; do for nu in 0.28 0.3 0.32; do
   echo "$roll -traction_top $t,-100 -friction coulomb -friction_coefficient $nu"; done; done | grid "rolling quarter, Coulomb"
 for t in 5 10 20 30 40; do for nu in 0.1 0.15 0.2 0.3 0.5 1; do
   echo "$heldy -traction_top $t,-100 -friction coulomb -friction_coefficient $nu"; done; done | grid "quarter held by uy = 0, Coulomb"
+ring=$(mktemp -d)
+gmsh -2 -format msh41 -o "$ring/ring2d.msh" tests/edges/ring2d.geo >/dev/null
+for bx in 0 0.3 1 1.5; do for nu in 0.1 0.3 0.6; do for p in 0 -20 20; do
+  echo "-mesh $ring/ring2d.msh -E 1000 -nu 0.3 -body_force $bx,-5 -pressure_inner $p -contact_surface outer -contact_direction 0,-1 -obstacle plane -obstacle_point 0,0 -friction coulomb -friction_coefficient $nu"
+done; done; done | grid "ring under its weight, Coulomb"
+rm -rf "$ring"

@@ -23,6 +23,7 @@
 //! estimate is the last Tresca solve's).
 
 use super::anderson::Anderson;
+use super::outcome::Lowering;
 use super::stopping::StopRule;
 use super::surface::{SurfaceState, UbrState};
 use super::ubr::{complete, ubr, UbrControl, UbrOutcome, Whole};
@@ -58,6 +59,29 @@ pub struct CfFpOutcome {
     pub failure: Option<String>,
 }
 
+/// The fixed point's own controls: -ubr_fp_rtol, -ubr_fp_max_it,
+/// -ubr_fp_anderson, and whether a stalled Tresca solve may go on at a
+/// lower r (friction alone holds a rigid motion and r is automatic).
+pub struct FpControl {
+    pub rtol: f64,
+    pub max_it: usize,
+    pub anderson: usize,
+    pub lower: bool,
+}
+
+impl FpControl {
+    /// From the options; `friction_held`: friction alone holds a rigid
+    /// motion.
+    pub fn new(u: &crate::options::UbrSettings, friction_held: bool) -> FpControl {
+        FpControl {
+            rtol: u.fp_rtol,
+            max_it: u.fp_max_it,
+            anderson: u.fp_anderson,
+            lower: friction_held && u.r.is_none(),
+        }
+    }
+}
+
 /// Runs CF-FP from `s0` (one bound per owned candidate).
 #[allow(clippy::too_many_arguments)]
 pub fn cf_fp<C: Communicator>(
@@ -67,21 +91,17 @@ pub fn cf_fp<C: Communicator>(
     nu_f: f64,
     s0: Vec<f64>,
     ctl: &UbrControl,
-    fp_rtol: f64,
-    fp_max_it: usize,
-    fp_anderson: usize,
+    fp: &FpControl,
     events: &crate::petsc::Events,
 ) -> Result<CfFpOutcome, Error> {
-    let mut out = fixed_point(
-        world,
-        problem,
-        state,
-        nu_f,
-        s0,
-        ctl,
-        (fp_rtol, fp_max_it, fp_anderson),
-        events,
-    )?;
+    let mut lowering = Lowering::new(fp.lower, problem);
+    let low = &mut lowering;
+    let mut out = fixed_point(world, problem, state, nu_f, s0, ctl, fp, low, events)?;
+    let how = match out.converged {
+        true => "the fixed point converged",
+        false => "the fixed point did not converge",
+    };
+    lowering.warn(problem, "CF-FP: a Tresca solve", how);
     // The answer's whole displacement, from the last Tresca solve (a fixed
     // point that failed reports its state with it, even where a load
     // history's step wanted none).
@@ -93,9 +113,8 @@ pub fn cf_fp<C: Communicator>(
     Ok(out)
 }
 
-/// The fixed point of [`cf_fp`] (`fp`: its tolerance, cap and Anderson
-/// memory); the whole displacement of its last Tresca solve is left
-/// pending ([`complete`]).
+/// The fixed point of [`cf_fp`]; the whole displacement of its last
+/// Tresca solve is left pending ([`complete`]).
 #[allow(clippy::too_many_arguments)]
 fn fixed_point<C: Communicator>(
     world: &C,
@@ -104,11 +123,11 @@ fn fixed_point<C: Communicator>(
     nu_f: f64,
     s0: Vec<f64>,
     ctl: &UbrControl,
-    (fp_rtol, fp_max_it, fp_anderson): (f64, usize, usize),
+    fp: &FpControl,
+    lowering: &mut Lowering,
     events: &crate::petsc::Events,
 ) -> Result<CfFpOutcome, Error> {
     let w = problem.contact.w.clone();
-    let d = problem.dim;
     let root = world.rank() == 0;
     let paper = ctl.stop == StopRule::Paper;
     let mut s = s0;
@@ -117,13 +136,13 @@ fn fixed_point<C: Communicator>(
     // Accuracy mode: the previous Tresca solution's multipliers, and the
     // recent changes between solutions.
     let mut changes = Changes::default();
-    let mut outer = (fp_anderson > 0).then(|| Anderson::new(fp_anderson, w.clone()));
+    let mut outer = (fp.anderson > 0).then(|| Anderson::new(fp.anderson, w.clone()));
     let mut floors = Floors::default();
     // Consecutive fixed-point iterations whose change of s is round-off.
     let mut flat = 0;
     let mut halving = Halving::new(ctl.monitor);
     let mut retreats = [0, 0];
-    for m in 0..fp_max_it {
+    for m in 0..fp.max_it {
         let (mut inner, full_tolerance) = floors.control(ctl, m, paper);
         // A step of s that can still be halved is, before the plain
         // iteration's slow way (the rolling quarter: 382 against 1331
@@ -151,8 +170,8 @@ fn fixed_point<C: Communicator>(
         run.count_retreats(&mut retreats);
         out.fixed_point_iterations = m + 1;
         // (Two solves in a row at their floor: no bound would do better.)
-        let retreat = (&mut outer, &mut changes);
-        if stalled && !at_floor && halving.back(world, &mut s, state, retreat)? {
+        let retreat = (&mut *lowering, &mut halving, &mut outer, &mut changes);
+        if stalled && !at_floor && again(world, problem, state, &mut s, retreat)? {
             continue;
         }
         if !stalled {
@@ -169,7 +188,7 @@ fn fixed_point<C: Communicator>(
         let mut estimate = f64::INFINITY;
         if !paper {
             changes.noise = run.error_estimate;
-            estimate = outer_estimate(world, d, st, &mut changes);
+            estimate = outer_estimate(world, problem.dim, st, &mut changes);
             out.fp_error_estimate = estimate;
         }
         progress(m, out.fp_change, run.contact);
@@ -191,7 +210,7 @@ fn fixed_point<C: Communicator>(
         // solution is the Coulomb one, within its own estimate.
         let exact = !paper && out.fp_change == 0.0 && m > 0;
         let done = if paper {
-            out.fp_change < fp_rtol
+            out.fp_change < fp.rtol
         } else {
             estimate <= 0.25 * ctl.lambda_rtol || exact
         };
@@ -212,10 +231,53 @@ fn fixed_point<C: Communicator>(
         outer_step(world, outer.as_mut(), &mut s, &mut next);
     }
     if !out.converged && out.failure.is_none() {
-        out.failure = Some(cap_message(&out, paper, fp_rtol, ctl.lambda_rtol, flat));
+        out.failure = Some(cap_message(&out, paper, fp.rtol, ctl.lambda_rtol, flat));
     }
     [out.last.anderson_retreats, out.last.plain_restarts] = retreats;
     Ok(out)
+}
+
+/// What [`again`] may change: r, the halving, the outer acceleration and
+/// the outer estimate's history.
+type Retreat<'a> = (
+    &'a mut Lowering,
+    &'a mut Halving,
+    &'a mut Option<Anderson>,
+    &'a mut Changes,
+);
+
+/// A Tresca solve stalled (not at its floor): whether the fixed point
+/// goes on. Where friction alone holds a rigid motion and r is automatic,
+/// a stall is first the sliding or rolling mode's slow convergence at a
+/// large r: the same bound again from this iterate at a lower r
+/// ([`Lowering`]), before any halving; then half the step ([`Halving`]).
+/// The ring under its own weight on a plane (tests/edges/ring2d.geo),
+/// Coulomb 0.3: the first Tresca solve at the full tolerance stalled at
+/// r = 629, four halvings too, exit 3; it converges at r / 9. Measured, 1
+/// rank, against no lowering: 30 rings (sideways load 0-0.3 of the weight,
+/// nu_f 0.1-0.6, pressure in the hole) 7 -> 0 failed; the rolling Hertz
+/// quarter, Coulomb (36) 0 -> 0 (the 9 whose path changed: 16,245 ->
+/// 11,380 iterations); held by uy = 0 (30) the same 4 beyond what friction
+/// holds fail, after 3x the iterations. Halving first (two lowerings): 3
+/// rings failed; two lowerings: 1 ring and 1 rolling quarter (both at
+/// exactly the load friction holds).
+fn again<C: Communicator>(
+    world: &C,
+    problem: &mut Problem,
+    state: &mut UbrState,
+    s: &mut [f64],
+    (lowering, halving, outer, changes): Retreat,
+) -> Result<bool, Error> {
+    if lowering.lower(problem)? {
+        if halving.monitor && world.rank() == 0 {
+            println!(
+                "  CF-FP: the Tresca solve stalled: the same bound at r = {:.4e}",
+                problem.r()
+            );
+        }
+        return Ok(true);
+    }
+    halving.back(world, s, state, (outer, changes))
 }
 
 /// The Tresca solves stopped at their floor: consecutive ones, and the

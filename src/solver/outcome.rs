@@ -467,21 +467,73 @@ fn tresca<C: Communicator>(
 }
 
 /// How many times a stalled Tresca solve of a friction-held body goes on
-/// at a third of its r, and the factor.
-const LOWER_TRIES: usize = 2;
+/// at a third of its r (in a whole run: UBR-TF's one solve, or all of
+/// CF-FP's), and the factor.
+const LOWER_TRIES: usize = 3;
 const LOWER_FACTOR: f64 = 3.0;
 
+/// r lowered after a stall where friction alone holds a rigid motion and
+/// r is automatic: a third of r, up to [`LOWER_TRIES`] times (the
+/// condensed back-end moves r without refactorizing). The automatic r is
+/// already a third of the spectral estimate there
+/// ([`penalty::FRICTION_HELD`]): the sliding or rolling mode is none of
+/// the compliance's modes, and some scenes want less still.
+pub(super) struct Lowering {
+    allowed: bool,
+    tries: usize,
+    r_first: f64,
+}
+
+impl Lowering {
+    /// `allowed`: friction alone holds a rigid motion and r is automatic.
+    pub(super) fn new(allowed: bool, problem: &Problem) -> Lowering {
+        Lowering {
+            allowed,
+            tries: 0,
+            r_first: problem.r(),
+        }
+    }
+
+    /// After a stalled solve: r divided by [`LOWER_FACTOR`], where allowed
+    /// and tries are left; false otherwise (r unchanged).
+    pub(super) fn lower(&mut self, problem: &mut Problem) -> Result<bool, Error> {
+        if !self.allowed || self.tries >= LOWER_TRIES {
+            return Ok(false);
+        }
+        self.tries += 1;
+        let surface = Surface {
+            cs: &problem.contact,
+            dim: problem.dim,
+            tangential: problem.tangential,
+            dirichlet: &problem.dirichlet.contact,
+        };
+        let r = problem.r() / LOWER_FACTOR;
+        problem.lin.set_r(&surface, r, problem.owned_start)?;
+        Ok(true)
+    }
+
+    /// The warning of a run that lowered r (`what`: the solve that
+    /// stalled, `how`: what came of it), none where it did not.
+    pub(super) fn warn(&self, problem: &mut Problem, what: &str, how: &str) {
+        if self.tries == 0 {
+            return;
+        }
+        let r = problem.r();
+        problem.lin.warnings.push(format!(
+            "{what} stalled at r = {:.4e}, where friction alone holds a rigid motion (its sliding or rolling mode converges slowly at a large r); it went on from its last iterate at r = {r:.4e} (r / {}) and {how}",
+            self.r_first,
+            LOWER_FACTOR.powi(self.tries as i32),
+        ));
+    }
+}
+
 /// A Tresca solve that stalled where friction alone holds a rigid motion
-/// goes on from its last iterate at a third of r, up to [`LOWER_TRIES`]
-/// times, within -ubr_max_it (the condensed back-end moves r without
-/// refactorizing). The automatic r is already a third of the spectral
-/// estimate there ([`penalty::FRICTION_HELD`]): the sliding or rolling
-/// mode is none of the compliance's modes, and some scenes want less
-/// still. Measured (the Hertz quarter without `ux = 0`, Tresca s = 2
-/// under the traction (2, -100), 1 rank): stalled after 3208 iterations at
-/// r = 722, stalled again at 241 (1091 more), converged at 80 in 64 more;
-/// the other 20 scenes of `bench/friction_held/run.sh`'s Tresca grid
-/// converge first and are unchanged. A warning says so.
+/// goes on from its last iterate at a lower r ([`Lowering`]), within
+/// -ubr_max_it. Measured (the Hertz quarter without `ux = 0`, Tresca
+/// s = 2 under the traction (2, -100), 1 rank): stalled after 3208
+/// iterations at r = 722, stalled again at 241 (1091 more), converged at
+/// 80 in 64 more; the other 20 scenes of `bench/friction_held/run.sh`'s
+/// Tresca grid converge first and are unchanged. A warning says so.
 fn lower_r<C: Communicator>(
     world: &C,
     problem: &mut Problem,
@@ -491,18 +543,8 @@ fn lower_r<C: Communicator>(
     events: &Events,
     mut run: ubr::UbrOutcome,
 ) -> Result<ubr::UbrOutcome, Error> {
-    let r_first = problem.r();
-    let mut tries = 0;
-    while run.stalled && tries < LOWER_TRIES && run.iterations < ctl.max_it {
-        tries += 1;
-        let surface = Surface {
-            cs: &problem.contact,
-            dim: problem.dim,
-            tangential: problem.tangential,
-            dirichlet: &problem.dirichlet.contact,
-        };
-        let r = problem.r() / LOWER_FACTOR;
-        problem.lin.set_r(&surface, r, problem.owned_start)?;
+    let mut lowering = Lowering::new(true, problem);
+    while run.stalled && run.iterations < ctl.max_it && lowering.lower(problem)? {
         let more = ubr::UbrControl {
             max_it: ctl.max_it - run.iterations,
             ..*ctl
@@ -511,19 +553,11 @@ fn lower_r<C: Communicator>(
         run = ubr::ubr(world, problem, state, Some(s), &more, events)?;
         run.iterations += before;
     }
-    if tries > 0 {
-        let how = if run.converged {
-            "converged"
-        } else {
-            "did not converge"
-        };
-        problem.lin.warnings.push(format!(
-            "UBR-TF stalled at r = {r_first:.4e}, where friction alone holds a rigid motion (its sliding or rolling mode converges slowly at a large r); it went on from its last iterate at r = {:.4e} (r / {}) and {how}, {} iterations in all",
-            problem.r(),
-            LOWER_FACTOR.powi(tries as i32),
-            run.iterations
-        ));
-    }
+    let how = match run.converged {
+        true => format!("converged, {} iterations in all", run.iterations),
+        false => format!("did not converge, {} iterations in all", run.iterations),
+    };
+    lowering.warn(problem, "UBR-TF", &how);
     Ok(run)
 }
 
@@ -692,9 +726,7 @@ fn run<C: Communicator>(
                 nu_f,
                 s0,
                 &ctl,
-                u.fp_rtol,
-                u.fp_max_it,
-                u.fp_anderson,
+                &cf_fp::FpControl::new(u, friction_held),
                 events,
             )?;
             solved.iterations = fp.inner_iterations;
