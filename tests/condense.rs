@@ -134,3 +134,68 @@ fn where_it_does_not_apply() {
     assert_eq!(run.status, Some(2), "{}", run.stderr);
     assert!(run.stderr.contains("-ubr_condense_max"), "{}", run.stderr);
 }
+
+/// In 3D the condensation is declined where MUMPS' analysis with the Schur
+/// complement predicts fewer sparse factorization flops than half the cube
+/// of the Schur block's order (`CONDENSE_DENSE_SHARE`): a 1 x 1 x 0.1 plate
+/// pressed on a large ball, its whole bottom face the contact surface
+/// (tests/edges/plate3d.geo: 1539 contact unknowns, a third of the mesh's,
+/// 4.6e8 flops against m^3 = 3.6e9), measured 0.28 s condensed against
+/// 0.11 s with full solves (at h 0.033, 1.82 against 0.68 s). The summary
+/// says so and names the option that condenses; an explicit
+/// `-ubr_condense_max` condenses as before; the two answers agree at a
+/// tight tolerance, on 1 and 2 ranks.
+#[test]
+fn a_3d_schur_block_heavier_than_the_sparse_factorization_is_declined() {
+    let dir = scratch("plate3d");
+    let msh = dir.join("plate3d.msh");
+    gmsh("-3", "tests/edges/plate3d.geo", &msh, &[]);
+    let msh = msh.to_str().unwrap();
+    let args = [
+        "-mesh",
+        msh,
+        "-E",
+        "1e4",
+        "-nu",
+        "0.3",
+        "-pressure_top",
+        "10",
+        "-dirichlet_top",
+        "ux=0,uy=0",
+        "-contact_surface",
+        "bottom",
+        "-obstacle",
+        "ball",
+        "-obstacle_center",
+        "0.5,0.5,-5",
+        "-obstacle_radius",
+        "5",
+        "-ubr_lambda_rtol",
+        "1e-10",
+    ];
+    for ranks in [1, 2] {
+        let (run, rep, rows) = solve_rows(&format!("plate3d_{ranks}"), ranks, &args);
+        assert!(rep.converged, "{}", run.context());
+        assert_eq!(rep.condensed_unknowns, 0.0, "{}", run.stdout);
+        let said = "not condensed: the dense Schur complement on the ";
+        let at = run
+            .stdout
+            .find(said)
+            .unwrap_or_else(|| panic!("{}", run.stdout));
+        let m: usize = run.stdout[at + said.len()..]
+            .split(' ')
+            .next()
+            .and_then(|w| w.parse().ok())
+            .unwrap_or_else(|| panic!("{}", run.stdout));
+        assert!(m > 1000, "{m} contact unknowns");
+        let m = m.to_string();
+        let mut forced = args.to_vec();
+        forced.extend_from_slice(&["-ubr_condense_max", &m]);
+        let (frun, frep, frows) = solve_rows(&format!("plate3d_{ranks}_forced"), ranks, &forced);
+        assert!(frep.converged, "{}", frun.context());
+        assert_eq!(frep.condensed_unknowns.to_string(), m, "{}", frun.stdout);
+        assert!(!frun.stdout.contains("not condensed"), "{}", frun.stdout);
+        let g = field_gap(&rows, &frows, |r| r.lambda_n);
+        assert!(g <= 1e-7, "{ranks} ranks: pressures differ by {g:.3e}");
+    }
+}

@@ -105,6 +105,10 @@ pub struct Direct {
     /// Why the factorization failed ([`Direct::failed`]): every solve
     /// returns it.
     failure: Option<Error>,
+    /// The condensation declined after the analysis ([`Plan::decline_below`]):
+    /// the Schur block's order m and the predicted flops of the sparse
+    /// factorization with it (RINFOG(1)); nothing factorized.
+    declined: Option<(usize, f64)>,
 }
 
 /// A failure found on the host only (`failed` is read there), made
@@ -191,6 +195,10 @@ fn contact_nodes<C: Communicator>(
 pub struct Plan {
     pub schur: Option<SchurLayout>,
     pub split_fronts: bool,
+    /// With the Schur complement: decline it where the analysis predicts
+    /// fewer sparse factorization flops (RINFOG(1)) than this times m^3
+    /// ([`super::CONDENSE_DENSE_SHARE`]).
+    pub decline_below: Option<f64>,
 }
 
 /// Asks MUMPS for the Schur complement on the `m` unknowns `listvar`
@@ -273,9 +281,18 @@ impl Direct {
             2 => super::ordering::mumps_parallel(&mut mumps, condense),
             _ => super::ordering::choose(world, &mut mumps, mesh, adjacency, schur_nodes, comps),
         });
+        // The dense Schur block would outweigh the sparse work it saves
+        // (RINFOG(1), the same on every rank): declined, nothing more done.
+        let declined = match (&analysis, plan.decline_below) {
+            (Ok(_), Some(share)) if condense => {
+                let flops = mumps.rinfog(1);
+                (flops < share * (m as f64).powi(3)).then_some((m, flops))
+            }
+            _ => None,
+        };
         // A distributed Schur complement: each rank's part, sized now.
         let analysis = analysis.and_then(|ordering| {
-            if condense && distributed {
+            if condense && distributed && declined.is_none() {
                 let failed = mumps.size_distributed_schur().err();
                 let worst = allreduce_max(world, failed.unwrap_or(0) as f64);
                 if worst > 0.0 {
@@ -316,9 +333,13 @@ impl Direct {
             kept,
             reduced: 0,
             failure: None,
+            declined,
         };
         if let Err(e) = analysed {
             return Direct::failed(direct, e);
+        }
+        if declined.is_some() {
+            return Ok(direct);
         }
         let factorized = super::memfit::fits(world, &direct.mumps).and_then(|()| {
             let _e = direct.ev_factor.begin();
@@ -329,24 +350,38 @@ impl Direct {
             return Direct::failed(direct, e);
         }
         if condense {
-            let _e = LogEvent::register("SchurFactor")?.begin();
-            let (s, grid) = match first_factors(world, &direct.mumps, m, distributed) {
-                Ok(f) => f,
-                Err(e) => return Direct::failed(direct, e),
-            };
-            direct.schur = Some(SchurPart {
-                m,
-                distributed,
-                layout: Layout::new(world, surface.cs.len() * comps.len()),
-                s,
-                grid,
-                shifted: None,
-                shifted_on: false,
-                rhs: vec![0.0; if world.rank() == 0 { m } else { 0 }],
-                sol: vec![0.0; if world.rank() == 0 { m } else { 0 }],
-            });
+            let local = surface.cs.len() * comps.len();
+            if let Err(e) = direct.first_schur(world, m, distributed, local) {
+                return Direct::failed(direct, e);
+            }
         }
         Ok(direct)
+    }
+
+    /// The Schur complement of the first factorization, of order `m`
+    /// (`local` of its unknowns on this rank), factorized.
+    fn first_schur<C: Communicator>(
+        &mut self,
+        world: &C,
+        m: usize,
+        distributed: bool,
+        local: usize,
+    ) -> Result<(), Error> {
+        let _e = LogEvent::register("SchurFactor")?.begin();
+        let (s, grid) = first_factors(world, &self.mumps, m, distributed)?;
+        let host = if world.rank() == 0 { m } else { 0 };
+        self.schur = Some(SchurPart {
+            m,
+            distributed,
+            layout: Layout::new(world, local),
+            s,
+            grid,
+            shifted: None,
+            shifted_on: false,
+            rhs: vec![0.0; host],
+            sol: vec![0.0; host],
+        });
+        Ok(())
     }
 
     /// Full solves gather the right-hand sides on the host and scatter the
@@ -369,6 +404,13 @@ impl Direct {
         direct.schur = None;
         direct.failure = Some(e);
         Ok(direct)
+    }
+
+    /// The condensation declined after the analysis: the Schur block's
+    /// order and the sparse factorization's predicted flops with it
+    /// (nothing factorized: the caller builds the plain back-end).
+    pub fn declined(&self) -> Option<(usize, f64)> {
+        self.declined
     }
 
     /// The failure of the factorization, if it failed (the same on every rank).

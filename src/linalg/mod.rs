@@ -46,6 +46,32 @@ use crate::petsc::{self, options, sys, Ksp, Matrix, NullSpace, Vector};
 /// (a boundary's unknowns), so the break-even comes late.
 pub const CONDENSE_MAX: [[usize; 2]; 2] = [[6000, 6000], [4000, 6000]];
 
+/// In 3D, at the default `-ubr_condense_max`, the condensation is declined
+/// after MUMPS' analysis with the Schur complement where that analysis
+/// predicts fewer sparse factorization flops (RINFOG(1)) than this times
+/// m^3, m the Schur block's order: the dense block's Cholesky (m^3 / 3,
+/// again at each change of r) and its solves (2 m^2 each) then outweigh
+/// the full sparse solves they save (a contact surface that holds a large
+/// share of a small mesh's unknowns: a plate on its face, a ball's whole
+/// skin). The analysis is made again without it. Measured (1 rank, total
+/// s, condensed against full solves, own Gmsh scenes; ratio RINFOG / m^3):
+/// a 1 x 1 x 0.1 plate pressed on a large ball, its bottom face the
+/// contact surface, h 0.05 / 0.033 / 0.025 (ratio 0.12-0.13): frictionless
+/// 0.28 / 0.11, 1.82 / 0.68; Coulomb 0.32 / 0.28, 2.02 / 1.09, 7.32 / 2.40;
+/// a ball on a plane under its weight, its whole skin the surface (0.25,
+/// 0.26), Coulomb: 3.87 / 2.52, 6.52 / 3.88; disc3d_halfball_coulomb of
+/// tests/scenes (0.17): 1.35 / 0.49; plates 0.2 thick (0.25, 0.31):
+/// frictionless 0.26 / 0.18, 2.20 / 1.12, Coulomb 0.32 / 0.36, 2.75 /
+/// 2.05; 0.4 thick (0.84, 0.91): frictionless 0.46 / 0.57, 3.93 / 3.14,
+/// Coulomb 0.61 / 0.85, 3.73 / 5.24; 0.7 thick (2.2, 2.4): 0.98 / 1.42,
+/// 7.71 / 7.42, 0.93 / 2.01, 7.65 / 11.99; hemisphere3d_coulomb (0.92)
+/// 0.37 / 0.81; block3d_17887 frictionless (42) 3.36 / 5.74, Coulomb (2.7)
+/// 5.73 / 15.97. In 2D the full solves cost more than their flops (many
+/// small fronts: 5 ms for 10,000 unknowns), and a 4 x 0.1 strip on its
+/// long edge (ratio 0.15-0.19) condenses faster (0.18 / 1.49 s, Coulomb
+/// 0.69 / 7.54): 2D keeps the count alone.
+pub const CONDENSE_DENSE_SHARE: f64 = 0.5;
+
 /// The rank count from which the Schur complement of a condensed run is
 /// distributed over the ranks and factorized and solved there by ScaLAPACK
 /// by default (`-ubr_schur_distributed`; [`grid`]), in 2D and in 3D.

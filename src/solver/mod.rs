@@ -523,11 +523,29 @@ fn engine<C: Communicator>(
                 .split_fronts
                 .unwrap_or(layout.is_some() && world.size() > 1 && d == 3)
         };
+        // In 3D at the default -ubr_condense_max, the analysis may decline
+        // the condensation (CONDENSE_DENSE_SHARE).
+        let auto = d == 3 && settings.ubr.condense_max.is_none();
         let plan = direct::Plan {
             schur: layout,
             split_fronts: split(layout),
+            decline_below: auto.then_some(crate::linalg::CONDENSE_DENSE_SHARE),
         };
         let mut dm = direct::Direct::new(world, a, mesh, adjacency, surface, plan, comps)?;
+        let mut declined = String::new();
+        if let Some((m, flops)) = dm.declined() {
+            drop(dm);
+            declined = format!(
+                ", not condensed: the dense Schur complement on the {m} contact unknowns (m^3 = {:.2e}) would outweigh the sparse factorization with it ({flops:.2e} flops predicted; -ubr_condense_max {m} condenses)",
+                (m as f64).powi(3)
+            );
+            let plan = direct::Plan {
+                schur: None,
+                split_fronts: split(None),
+                decline_below: None,
+            };
+            dm = direct::Direct::new(world, a, mesh, adjacency, surface, plan, comps)?;
+        }
         let mut warnings = Vec::new();
         let tiny = dm.tiny_pivots();
         if condense && tiny > 0 {
@@ -540,6 +558,7 @@ fn engine<C: Communicator>(
             let plan = direct::Plan {
                 schur: None,
                 split_fronts: split(None),
+                decline_below: None,
             };
             dm = direct::Direct::new(world, a, mesh, adjacency, surface, plan, comps)?;
         }
@@ -547,7 +566,7 @@ fn engine<C: Communicator>(
             dm.centralize_rhs();
         }
         let description = format!(
-            "MUMPS Cholesky, called directly ({}; {:.3e} flops)",
+            "MUMPS Cholesky, called directly ({}; {:.3e} flops){declined}",
             dm.ordering, dm.flops
         );
         warnings.extend(dm.ordering_warning.take());
