@@ -143,8 +143,9 @@ fn where_it_does_not_apply() {
 /// 4.6e8 flops against m^3 = 3.6e9), measured 0.28 s condensed against
 /// 0.11 s with full solves (at h 0.033, 1.82 against 0.68 s). The summary
 /// says so and names the option that condenses; an explicit
-/// `-ubr_condense_max` condenses as before; the two answers agree at a
-/// tight tolerance, on 1 and 2 ranks.
+/// `-ubr_condense_max` condenses as before, and so does a given
+/// `-ubr_schur_distributed`; the two answers agree at a tight tolerance,
+/// on 1 and 2 ranks.
 #[test]
 fn a_3d_schur_block_heavier_than_the_sparse_factorization_is_declined() {
     let dir = scratch("plate3d");
@@ -198,4 +199,10 @@ fn a_3d_schur_block_heavier_than_the_sparse_factorization_is_declined() {
         let g = field_gap(&rows, &frows, |r| r.lambda_n);
         assert!(g <= 1e-7, "{ranks} ranks: pressures differ by {g:.3e}");
     }
+    // The user who places the Schur complement wants it.
+    let mut placed = args.to_vec();
+    placed.extend_from_slice(&["-ubr_schur_distributed", "1"]);
+    let (run, rep, _) = solve_rows("plate3d_placed", 2, &placed);
+    assert!(rep.condensed_unknowns > 1000.0, "{}", run.stdout);
+    assert!(run.stdout.contains("by ScaLAPACK"), "{}", run.stdout);
 }

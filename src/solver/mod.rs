@@ -524,8 +524,10 @@ fn engine<C: Communicator>(
                 .unwrap_or(layout.is_some() && world.size() > 1 && d == 3)
         };
         // In 3D at the default -ubr_condense_max, the analysis may decline
-        // the condensation (CONDENSE_DENSE_SHARE).
-        let auto = d == 3 && settings.ubr.condense_max.is_none();
+        // the condensation (CONDENSE_DENSE_SHARE); not where the user
+        // placed the Schur complement (-ubr_schur_distributed).
+        let u = &settings.ubr;
+        let auto = d == 3 && u.condense_max.is_none() && u.schur_distributed.is_none();
         let plan = direct::Plan {
             schur: layout,
             split_fronts: split(layout),
