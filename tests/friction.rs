@@ -566,7 +566,8 @@ fn a_stalled_friction_held_tresca_solve_goes_on_at_a_lower_r() {
 /// step stalled too, and the run ended with exit 3 and "the body slides or
 /// rolls" on 1 and 2 ranks. It now goes on with the same bound from its
 /// last iterate at r / 3 (three times at most), before any halving, and
-/// converges (about 2,000 Tresca iterations) to a state that meets
+/// converges (at r / 27 on 1 rank, about 2,000 Tresca iterations in all;
+/// on 2 ranks too) to a state that meets
 /// Signorini's conditions and Coulomb's law; the warning and the
 /// summary's r line say so.
 #[test]
