@@ -534,6 +534,15 @@ fn engine<C: Communicator>(
             decline_below: auto.then_some(crate::linalg::CONDENSE_DENSE_SHARE),
         };
         let mut dm = direct::Direct::new(world, a, mesh, adjacency, surface, plan, comps)?;
+        // The back-end without the Schur complement (full solves).
+        let full = || {
+            let plan = direct::Plan {
+                schur: None,
+                split_fronts: split(None),
+                decline_below: None,
+            };
+            direct::Direct::new(world, a, mesh, adjacency, surface, plan, comps)
+        };
         let mut declined = String::new();
         if let Some((m, flops)) = dm.declined() {
             drop(dm);
@@ -541,12 +550,7 @@ fn engine<C: Communicator>(
                 ", not condensed: the dense Schur complement on the {m} contact unknowns (m^3 = {:.2e}) would outweigh the sparse factorization with it ({flops:.2e} flops predicted; -ubr_condense_max {m} condenses)",
                 (m as f64).powi(3)
             );
-            let plan = direct::Plan {
-                schur: None,
-                split_fronts: split(None),
-                decline_below: None,
-            };
-            dm = direct::Direct::new(world, a, mesh, adjacency, surface, plan, comps)?;
+            dm = full()?;
         }
         let mut warnings = Vec::new();
         let tiny = dm.tiny_pivots();
@@ -557,12 +561,7 @@ fn engine<C: Communicator>(
                 "MUMPS replaced {tiny} tiny pivots (INFOG(25)) while computing the Schur complement of the condensed solves, which would be wrong: the run uses full solves instead. The matrix entries are tiny (E = {:.3e}): expressed in units where E is nearer 1, the condensed solves work",
                 settings.young
             ));
-            let plan = direct::Plan {
-                schur: None,
-                split_fronts: split(None),
-                decline_below: None,
-            };
-            dm = direct::Direct::new(world, a, mesh, adjacency, surface, plan, comps)?;
+            dm = full()?;
         }
         if !settings.ubr.distributed_rhs {
             dm.centralize_rhs();

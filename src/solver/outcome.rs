@@ -427,9 +427,7 @@ fn tresca<C: Communicator>(
 ) -> Result<(), Error> {
     let accuracy = ctl.stop == StopRule::Accuracy;
     let mut run = ubr::ubr(world, problem, state, Some(&s), ctl, events)?;
-    if lower {
-        run = lower_r(world, problem, state, &s, ctl, events, run)?;
-    }
+    run = lower_r(world, problem, state, &s, ctl, events, (lower, run))?;
     // The bound's own error adds to the estimate; where the sum
     // misses the target, the Tresca solve goes on (warm) to a
     // target that leaves room for it.
@@ -528,8 +526,8 @@ impl Lowering {
 }
 
 /// A Tresca solve that stalled where friction alone holds a rigid motion
-/// goes on from its last iterate at a lower r ([`Lowering`]), within
-/// -ubr_max_it. Measured (the Hertz quarter without `ux = 0`, Tresca
+/// and r is automatic (`allowed`) goes on from its last iterate at a
+/// lower r ([`Lowering`]), within -ubr_max_it. Measured (the Hertz quarter without `ux = 0`, Tresca
 /// s = 2 under the traction (2, -100), 1 rank): stalled after 3208
 /// iterations at r = 722, stalled again at 241 (1091 more), converged at
 /// 80 in 64 more; the other 20 scenes of `bench/friction_held/run.sh`'s
@@ -541,9 +539,9 @@ fn lower_r<C: Communicator>(
     s: &[f64],
     ctl: &ubr::UbrControl,
     events: &Events,
-    mut run: ubr::UbrOutcome,
+    (allowed, mut run): (bool, ubr::UbrOutcome),
 ) -> Result<ubr::UbrOutcome, Error> {
-    let mut lowering = Lowering::new(true, problem);
+    let mut lowering = Lowering::new(allowed, problem);
     while run.stalled && run.iterations < ctl.max_it && lowering.lower(problem)? {
         let more = ubr::UbrControl {
             max_it: ctl.max_it - run.iterations,
@@ -553,11 +551,15 @@ fn lower_r<C: Communicator>(
         run = ubr::ubr(world, problem, state, Some(s), &more, events)?;
         run.iterations += before;
     }
-    let how = match run.converged {
-        true => format!("converged, {} iterations in all", run.iterations),
-        false => format!("did not converge, {} iterations in all", run.iterations),
-    };
-    lowering.warn(problem, "UBR-TF", &how);
+    if lowering.tries > 0 {
+        let how = if run.converged {
+            "converged"
+        } else {
+            "did not converge"
+        };
+        let how = format!("{how}, {} iterations in all", run.iterations);
+        lowering.warn(problem, "UBR-TF", &how);
+    }
     Ok(run)
 }
 
