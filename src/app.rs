@@ -460,7 +460,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         };
         let s = &self.settings;
         let dirichlet = crate::fem::dirichlet_dofs(local, &s.dirichlet)?;
-        let mut cs = ContactSet::build(local, contact)?;
+        let mut cs = ContactSet::build(self.world, local, contact)?;
         cs.add_pairs(self.world, local, contact)?;
         let surfaces: Vec<&str> = contact.surfaces.iter().map(String::as_str).collect();
         interior::refuse_inside(self.world, local, "-contact_surface", &surfaces)?;
@@ -486,7 +486,8 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
         }
         let friction = s.friction != Friction::None;
         let restraint = wellposed::check(self.world, local, &dirichlet, &cs, friction, &pairs)?;
-        let mut warnings: Vec<String> = dropped.into_iter().collect();
+        let mut warnings: Vec<String> = std::mem::take(&mut cs.reoriented);
+        warnings.extend(dropped);
         warnings.extend(checks::setup_warnings(
             self.world, local, s, &dirichlet, &cs,
         )?);

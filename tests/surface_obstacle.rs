@@ -149,6 +149,107 @@ fn a_polygonal_pin_converges_to_the_disc() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A closed surface whose orientation puts the body inside the obstacle
+/// (the pin's curve clockwise around the plate's hole; the ball below the
+/// plate with its triangles facing inward) is read reversed, with one
+/// warning naming the file: the same contact stresses as the surface
+/// oriented outward, on 1 and 2 ranks. Before, the body started inside the
+/// obstacle everywhere and the scene was refused as ill-posed ("the loads
+/// pull the body off the obstacle"), exit 2.
+#[test]
+fn a_surface_oriented_toward_the_body_is_read_reversed() {
+    let dir = scratch("surface-reversed");
+    let plate_msh = dir.join("pin2d.msh");
+    gmsh("-2", "tests/normals/pin2d.geo", &plate_msh, &[]);
+    let p = plate_msh.to_str().unwrap();
+    let mut rows = Vec::new();
+    for (reverse, ranks) in [("0", 2), ("1", 2), ("1", 1)] {
+        let m = dir.join(format!("pin{reverse}.msh"));
+        gmsh(
+            "-1",
+            "tests/obstacles/pin_disc.geo",
+            &m,
+            &[("h", "0.01"), ("reverse", reverse)],
+        );
+        let m = m.to_str().unwrap();
+        let args = [
+            "-mesh",
+            p,
+            "-E",
+            "1000",
+            "-nu",
+            "0.3",
+            "-dirichlet_outer",
+            "ux=0,uy=0.02",
+            "-contact_surface",
+            "seat",
+            "-ubr_lambda_rtol",
+            "1e-8",
+            "-obstacle",
+            "mesh",
+            "-obstacle_mesh",
+            m,
+            "-obstacle_mesh_group",
+            "pin",
+        ];
+        let name = format!("surface-reversed-{reverse}-{ranks}");
+        let (_, report, r) = solve_rows(&name, ranks, &args);
+        let flipped: Vec<&String> = report
+            .warnings
+            .iter()
+            .filter(|w| w.contains("it is read reversed"))
+            .collect();
+        if reverse == "1" {
+            assert_eq!(flipped.len(), 1, "{:?}", report.warnings);
+            assert!(
+                flipped[0].starts_with(&format!("-obstacle_mesh {m}: the orientation of its elements put 100% of the body's nodes inside the obstacle")),
+                "{}",
+                flipped[0]
+            );
+        } else {
+            assert!(flipped.is_empty(), "{:?}", report.warnings);
+        }
+        assert!(report.contact_active > 0.0, "{name}: no contact");
+        rows.push(r);
+    }
+    for r in &rows[1..] {
+        let gap = max_pressure_gap(r, &rows[0]);
+        assert!(gap < 1e-8, "reversed against outward: {gap:e}");
+    }
+    // 3D: the ball below the plate of tests/normals, facing inward.
+    let plate3d = dir.join("plate.msh");
+    gmsh("-3", "tests/normals/ballplate3d.geo", &plate3d, &[]);
+    let p = plate3d.to_str().unwrap();
+    let mut rows = Vec::new();
+    for reverse in ["0", "1"] {
+        let m = dir.join(format!("ball{reverse}.msh"));
+        gmsh(
+            "-2",
+            "tests/obstacles/ball_below.geo",
+            &m,
+            &[("HC", "0.03"), ("reverse", reverse)],
+        );
+        let m = m.to_str().unwrap();
+        let args = plate(p, &["-obstacle", "mesh", "-obstacle_mesh", m]);
+        let (_, report, r) = solve_rows(&format!("surface-reversed-3d-{reverse}"), 1, &args);
+        let flipped = report
+            .warnings
+            .iter()
+            .filter(|w| w.contains("it is read reversed"))
+            .count();
+        assert_eq!(
+            flipped,
+            usize::from(reverse == "1"),
+            "{:?}",
+            report.warnings
+        );
+        rows.push(r);
+    }
+    let gap = max_pressure_gap(&rows[1], &rows[0]);
+    assert!(gap < 1e-8, "3D reversed against outward: {gap:e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// An STL facet list as ASCII text.
 fn stl(facets: &[[[f64; 3]; 3]]) -> String {
     let mut s = String::from("solid t\n");

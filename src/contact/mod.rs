@@ -3,7 +3,7 @@
 //! the closest point on the obstacle) and gaps `g_i` along them, and the
 //! pointwise projections of the paper, (4.15) and (5.5).
 
-use crate::comm::allreduce_max;
+use crate::comm::{allreduce_max, allreduce_sum};
 use crate::error::{bad, Error};
 use crate::fem::element::facet_weights;
 use crate::mesh::distribute::LocalMesh;
@@ -58,6 +58,8 @@ pub struct ContactSet {
     /// A pair's slave node: its image on the master (`dim` values per
     /// candidate, zero against a rigid obstacle).
     pub image: Vec<f64>,
+    /// Warnings of [`Self::build`]: an obstacle surface read reversed.
+    pub reoriented: Vec<String>,
 }
 
 /// The largest part of a facet-made normal along prescribed displacement
@@ -176,7 +178,11 @@ impl ContactSet {
     /// Builds the owned candidates of the surfaces `settings.surfaces` (a
     /// facet in two of them counts once). The caller checks the global
     /// candidate count (a surface with no candidate is bad input).
-    pub fn build(mesh: &LocalMesh, settings: &ContactSettings) -> Result<ContactSet, Error> {
+    pub fn build<C: mpi::traits::Communicator>(
+        world: &C,
+        mesh: &LocalMesh,
+        settings: &ContactSettings,
+    ) -> Result<ContactSet, Error> {
         let d = mesh.dim;
         let mut groups = Vec::with_capacity(settings.surfaces.len());
         for name in &settings.surfaces {
@@ -195,21 +201,7 @@ impl ContactSet {
             ));
         }
         let single = settings.obstacles.len() == 1;
-        let mut surfaces = Vec::with_capacity(settings.obstacles.len());
-        for o in &settings.obstacles {
-            check_dimensions(o, d, !settings.named)?;
-            surfaces.push(match &o.obstacle {
-                Obstacle::Mesh {
-                    file,
-                    group,
-                    search,
-                } => Some(
-                    read_surface(file, group.as_deref(), *search, d)
-                        .map_err(|e| of_named(e, settings.named.then_some(o.name.as_str())))?,
-                ),
-                _ => None,
-            });
-        }
+        let (surfaces, reoriented) = obstacle_surfaces(world, mesh, settings)?;
         let n = &settings.direction;
         // Weights of every owned node of the surface.
         let mut weight = vec![0.0; mesh.owned_count];
@@ -244,6 +236,7 @@ impl ContactSet {
             dim: d,
             direction: n.clone(),
             uniform: single && (fixed || matches!(settings.obstacle, Obstacle::Plane { .. })),
+            reoriented,
             ..Default::default()
         };
         for v in 0..mesh.owned_count {
@@ -523,6 +516,85 @@ fn read_surface(
         Some(d) => surface.with_search_distance(d),
         None => surface,
     })
+}
+
+/// The surface of each `-obstacle mesh` of `settings` (None for the other
+/// obstacles), read, checked and oriented to the body
+/// ([`orient_to_body`]), with the warnings of those read reversed.
+/// Collective.
+fn obstacle_surfaces<C: mpi::traits::Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    settings: &ContactSettings,
+) -> Result<(Vec<Option<mesh_obstacle::MeshObstacle>>, Vec<String>), Error> {
+    let d = mesh.dim;
+    let mut surfaces = Vec::with_capacity(settings.obstacles.len());
+    let mut reoriented = Vec::new();
+    for o in &settings.obstacles {
+        check_dimensions(o, d, !settings.named)?;
+        surfaces.push(match &o.obstacle {
+            Obstacle::Mesh {
+                file,
+                group,
+                search,
+            } => {
+                let named = settings.named.then_some(o.name.as_str());
+                let surface = read_surface(file, group.as_deref(), *search, d)
+                    .map_err(|e| of_named(e, named))?;
+                let option =
+                    named.map_or(OPTION_MESH.to_string(), |n| format!("-obstacle_{n}_mesh"));
+                let (surface, warning) = orient_to_body(world, mesh, surface, &option)?;
+                reoriented.extend(warning);
+                Some(surface)
+            }
+            _ => None,
+        });
+    }
+    Ok((surfaces, reoriented))
+}
+
+/// The option that names a single obstacle's surface file.
+const OPTION_MESH: &str = "-obstacle_mesh";
+
+/// How many of its owned nodes each rank tests against an obstacle surface
+/// in [`orient_to_body`] (evenly spaced in its numbering; all where fewer).
+const ORIENT_SAMPLES: usize = 4096;
+
+/// The obstacle of a closed surface is the side its normals point away
+/// from (the module doc of [`mesh_obstacle`]); a surface whose orientation
+/// puts most of the body inside the obstacle is read reversed, with a
+/// warning naming `option`: a body cannot start inside a rigid obstacle
+/// (an interference fit puts a thin layer of it there, never most of it),
+/// while the orientation of a curve or surface a user draws in Gmsh is
+/// easily the other one (a clockwise groove meant as the solid below it).
+/// The body's side is measured on its nodes (up to [`ORIENT_SAMPLES`] per
+/// rank, those within the search distance), the same decision on every
+/// rank. Collective.
+fn orient_to_body<C: mpi::traits::Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    surface: mesh_obstacle::MeshObstacle,
+    option: &str,
+) -> Result<(mesh_obstacle::MeshObstacle, Option<String>), Error> {
+    let step = (mesh.owned_count / ORIENT_SAMPLES).max(1);
+    let (mut inside, mut outside) = (0.0, 0.0);
+    for v in (0..mesh.owned_count).step_by(step) {
+        match surface.closest(mesh.x(v)) {
+            Some(c) if c.gap < 0.0 => inside += 1.0,
+            Some(c) if c.gap > 0.0 => outside += 1.0,
+            _ => {}
+        }
+    }
+    let [inside, outside] = allreduce_sum(world, [inside, outside]);
+    if inside <= outside {
+        return Ok((surface, None));
+    }
+    let warning = format!(
+        "{option} {}: the orientation of its elements put {:.0}% of the body's nodes inside the obstacle; it is read reversed, the obstacle on the side away from the body (a solid's boundary is oriented with its normals outward: counter-clockwise in 2D; a cavity's inward)",
+        surface.file(),
+        100.0 * inside / (inside + outside)
+    );
+    Ok((surface.reversed()?, Some(warning)))
 }
 
 /// The contact projection (4.15) with the multiplier update (4.4) at one node:

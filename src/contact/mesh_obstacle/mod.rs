@@ -19,7 +19,10 @@
 //! `(dy, -dx) / len`, so a counter-clockwise circle is a solid disc and a
 //! clockwise one a circular hole. The obstacle occupies the side the
 //! normals point away from; a closed surface with inward normals is the
-//! outside of a cavity (a seat), which is allowed.
+//! outside of a cavity (a seat), which is allowed. The contact set reads a
+//! surface whose orientation puts most of the body inside the obstacle
+//! reversed ([`MeshObstacle::reversed`], by `orient_to_body` in
+//! `crate::contact`).
 //!
 //! # Signed distance
 //! [`MeshObstacle::closest`] finds the closest point with an R*-tree
@@ -283,6 +286,22 @@ impl MeshObstacle {
             search: f64::INFINITY,
             tree,
         })
+    }
+
+    /// The same surface with every element's orientation reversed (a
+    /// segment's ends swapped, a triangle's last two corners): the obstacle
+    /// becomes the other side of it, a solid its cavity and a cavity its
+    /// solid. The search distance is kept.
+    pub fn reversed(self) -> Result<MeshObstacle, Error> {
+        let mut surface = self.surface;
+        for e in &mut surface.elems {
+            *e = if surface.dim == 2 {
+                [e[1], e[0], e[0]]
+            } else {
+                [e[0], e[2], e[1]]
+            };
+        }
+        Ok(MeshObstacle::from_surface(surface)?.with_search_distance(self.search))
     }
 
     /// The same obstacle, with [`MeshObstacle::closest`] returning None for
