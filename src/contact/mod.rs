@@ -568,14 +568,18 @@ const ORIENT_SAMPLES: usize = 4096;
 /// while the orientation of a curve or surface a user draws in Gmsh is
 /// easily the other one (a clockwise groove meant as the solid below it).
 /// The body's side is measured on its nodes (up to [`ORIENT_SAMPLES`] per
-/// rank, those within the search distance), the same decision on every
-/// rank. Collective.
+/// rank, beyond the search distance too), the same decision on every rank.
+/// Collective.
 fn orient_to_body<C: mpi::traits::Communicator>(
     world: &C,
     mesh: &LocalMesh,
     surface: mesh_obstacle::MeshObstacle,
     option: &str,
 ) -> Result<(mesh_obstacle::MeshObstacle, Option<String>), Error> {
+    // Every sampled node counts, however far: a search distance below an
+    // interference would leave mostly the nodes inside.
+    let search = surface.search_distance();
+    let surface = surface.with_search_distance(f64::INFINITY);
     let step = (mesh.owned_count / ORIENT_SAMPLES).max(1);
     let (mut inside, mut outside) = (0.0, 0.0);
     for v in (0..mesh.owned_count).step_by(step) {
@@ -586,6 +590,7 @@ fn orient_to_body<C: mpi::traits::Communicator>(
         }
     }
     let [inside, outside] = allreduce_sum(world, [inside, outside]);
+    let surface = surface.with_search_distance(search);
     if inside <= outside {
         return Ok((surface, None));
     }

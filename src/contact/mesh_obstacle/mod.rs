@@ -312,6 +312,11 @@ impl MeshObstacle {
         self
     }
 
+    /// The search distance ([`MeshObstacle::with_search_distance`]).
+    pub fn search_distance(&self) -> f64 {
+        self.search
+    }
+
     /// The file it was read from (the name given to
     /// [`MeshObstacle::from_elements`]).
     pub fn file(&self) -> &str {
