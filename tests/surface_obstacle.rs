@@ -202,7 +202,7 @@ fn a_surface_oriented_toward_the_body_is_read_reversed() {
         if reverse == "1" {
             assert_eq!(flipped.len(), 1, "{:?}", report.warnings);
             assert!(
-                flipped[0].starts_with(&format!("-obstacle_mesh {m}: the orientation of its elements put 100% of the body's nodes inside the obstacle")),
+                flipped[0].starts_with(&format!("-obstacle_mesh {m}: the orientation of its elements put 100% of the body's nodes nearest to it inside the obstacle; it is read reversed")),
                 "{}",
                 flipped[0]
             );
@@ -248,6 +248,74 @@ fn a_surface_oriented_toward_the_body_is_read_reversed() {
     let gap = max_pressure_gap(&rows[1], &rows[0]);
     assert!(gap < 1e-8, "3D reversed against outward: {gap:e}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Two discs in one file under the block of tests/obstacles (its top
+/// midpoint held in x), the right one drawn clockwise: that part alone is
+/// read reversed, with one warning naming it ("1 of its 2 connected
+/// parts"), and the contact stresses are those of both discs drawn
+/// counter-clockwise, on 2 ranks. Before, the right disc was a cavity the
+/// block's right half started inside: 26 of 51 candidates pushed out by up
+/// to 0.22, a strain of 122%, exit 0.
+#[test]
+fn one_part_of_a_surface_drawn_the_other_way_is_read_reversed() {
+    let (dir, msh) = gmsh_2d("surface-two-discs", "tests/obstacles/multi_block2d.geo");
+    let mut rows = Vec::new();
+    for reverse in ["0", "1"] {
+        let m = dir.join(format!("discs{reverse}.msh"));
+        gmsh(
+            "-1",
+            "tests/obstacles/two_discs.geo",
+            &m,
+            &[("reverse_right", reverse)],
+        );
+        let m = m.to_str().unwrap();
+        let args = [
+            "-mesh",
+            &msh,
+            "-E",
+            "1e6",
+            "-nu",
+            "0.3",
+            "-dirichlet_mid",
+            "ux=0",
+            "-traction_top",
+            "0,-1e3",
+            "-contact_surface",
+            "bottom",
+            "-obstacle",
+            "mesh",
+            "-obstacle_mesh",
+            m,
+            "-ubr_lambda_rtol",
+            "1e-9",
+        ];
+        let (_, report, r) = solve_rows(&format!("surface-two-discs-{reverse}"), 2, &args);
+        let flipped: Vec<&String> = report
+            .warnings
+            .iter()
+            .filter(|w| w.contains("read reversed"))
+            .collect();
+        if reverse == "1" {
+            assert_eq!(flipped.len(), 1, "{:?}", report.warnings);
+            assert!(
+                flipped[0].starts_with(&format!("-obstacle_mesh {m}: the orientation of 1 of its 2 connected parts put 100% of the body's nodes nearest to it inside the obstacle; it is read reversed")),
+                "{}",
+                flipped[0]
+            );
+        } else {
+            assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+        }
+        // Both discs carry the load: candidates in contact on either side.
+        assert!(r.iter().any(|r| r.status != "open" && r.x[0] < 0.0));
+        assert!(r.iter().any(|r| r.status != "open" && r.x[0] > 0.0));
+        rows.push(r);
+    }
+    let gap = max_pressure_gap(&rows[1], &rows[0]);
+    assert!(
+        gap < 1e-8,
+        "right disc clockwise against counter-clockwise: {gap:e}"
+    );
 }
 
 /// An STL facet list as ASCII text.

@@ -3,7 +3,7 @@
 //! the closest point on the obstacle) and gaps `g_i` along them, and the
 //! pointwise projections of the paper, (4.15) and (5.5).
 
-use crate::comm::{allreduce_max, allreduce_sum};
+use crate::comm::allreduce_max;
 use crate::error::{bad, Error};
 use crate::fem::element::facet_weights;
 use crate::mesh::distribute::LocalMesh;
@@ -561,15 +561,16 @@ const OPTION_MESH: &str = "-obstacle_mesh";
 const ORIENT_SAMPLES: usize = 4096;
 
 /// The obstacle of a closed surface is the side its normals point away
-/// from (the module doc of [`mesh_obstacle`]); a surface whose orientation
-/// puts most of the body inside the obstacle is read reversed, with a
-/// warning naming `option`: a body cannot start inside a rigid obstacle
-/// (an interference fit puts a thin layer of it there, never most of it),
-/// while the orientation of a curve or surface a user draws in Gmsh is
-/// easily the other one (a clockwise groove meant as the solid below it).
-/// The body's side is measured on its nodes (up to [`ORIENT_SAMPLES`] per
-/// rank, beyond the search distance too), the same decision on every rank.
-/// Collective.
+/// from (the module doc of [`mesh_obstacle`]); a connected part of the
+/// surface whose orientation puts most of the body's nodes nearest to it
+/// inside the obstacle is read reversed, with a warning naming `option`: a
+/// body cannot start inside a rigid obstacle (an interference fit puts a
+/// thin layer of it there, never most of it), while the orientation of a
+/// curve or surface a user draws in Gmsh is easily the other one (a
+/// clockwise groove meant as the solid below it). The body's side is
+/// measured on its nodes (up to [`ORIENT_SAMPLES`] per rank, beyond the
+/// search distance too), each counted for the part its closest point lies
+/// on; the same decision on every rank. Collective.
 fn orient_to_body<C: mpi::traits::Communicator>(
     world: &C,
     mesh: &LocalMesh,
@@ -580,26 +581,42 @@ fn orient_to_body<C: mpi::traits::Communicator>(
     // interference would leave mostly the nodes inside.
     let search = surface.search_distance();
     let surface = surface.with_search_distance(f64::INFINITY);
+    let parts = surface.components();
     let step = (mesh.owned_count / ORIENT_SAMPLES).max(1);
-    let (mut inside, mut outside) = (0.0, 0.0);
+    // Per part: nodes inside, nodes outside.
+    let mut count = vec![0.0; 2 * parts];
     for v in (0..mesh.owned_count).step_by(step) {
         match surface.closest(mesh.x(v)) {
-            Some(c) if c.gap < 0.0 => inside += 1.0,
-            Some(c) if c.gap > 0.0 => outside += 1.0,
+            Some(c) if c.gap < 0.0 => count[2 * c.component] += 1.0,
+            Some(c) if c.gap > 0.0 => count[2 * c.component + 1] += 1.0,
             _ => {}
         }
     }
-    let [inside, outside] = allreduce_sum(world, [inside, outside]);
+    let count = crate::comm::allreduce_sum_vec(world, &count);
     let surface = surface.with_search_distance(search);
-    if inside <= outside {
+    let flip: Vec<bool> = count.chunks(2).map(|c| c[0] > c[1]).collect();
+    let flipped = flip.iter().filter(|&&f| f).count();
+    if flipped == 0 {
         return Ok((surface, None));
     }
+    let (inside, total) = count
+        .chunks(2)
+        .zip(&flip)
+        .filter(|(_, &f)| f)
+        .fold((0.0, 0.0), |(i, t), (c, _)| (i + c[0], t + c[0] + c[1]));
+    let what = if parts == 1 {
+        "the orientation of its elements".to_string()
+    } else {
+        format!("the orientation of {flipped} of its {parts} connected parts")
+    };
     let warning = format!(
-        "{option} {}: the orientation of its elements put {:.0}% of the body's nodes inside the obstacle; it is read reversed, the obstacle on the side away from the body (a solid's boundary is oriented with its normals outward: counter-clockwise in 2D; a cavity's inward)",
+        "{option} {}: {what} put {:.0}% of the body's nodes nearest to {} inside the obstacle; {} read reversed, the obstacle on the side away from the body (a solid's boundary is oriented with its normals outward: counter-clockwise in 2D; a cavity's inward)",
         surface.file(),
-        100.0 * inside / (inside + outside)
+        100.0 * inside / total,
+        if flipped == 1 { "it" } else { "them" },
+        if flipped == 1 { "it is" } else { "they are" },
     );
-    Ok((surface.reversed()?, Some(warning)))
+    Ok((surface.reversed(&flip)?, Some(warning)))
 }
 
 /// The contact projection (4.15) with the multiplier update (4.4) at one node:

@@ -29,8 +29,8 @@ pub enum Obstacle {
         radius: f64,
     },
     /// A rigid surface from a file (`-obstacle mesh`): Gmsh line (2D) or
-    /// triangle (3D) elements, or STL, closed and outward oriented (read
-    /// reversed where that puts the body inside the obstacle); a
+    /// triangle (3D) elements, or STL, closed and outward oriented (a
+    /// part read reversed where that puts the body inside the obstacle); a
     /// physical group of it, and the search distance beyond which a node
     /// is no candidate (None: every node of the contact surface).
     Mesh {

@@ -20,9 +20,9 @@
 //! clockwise one a circular hole. The obstacle occupies the side the
 //! normals point away from; a closed surface with inward normals is the
 //! outside of a cavity (a seat), which is allowed. The contact set reads a
-//! surface whose orientation puts most of the body inside the obstacle
-//! reversed ([`MeshObstacle::reversed`], by `orient_to_body` in
-//! `crate::contact`).
+//! connected part of the surface whose orientation puts most of the
+//! body's nodes nearest to it inside the obstacle reversed
+//! ([`MeshObstacle::reversed`], by `orient_to_body` in `crate::contact`).
 //!
 //! # Signed distance
 //! [`MeshObstacle::closest`] finds the closest point with an R*-tree
@@ -76,6 +76,9 @@ pub struct Closest {
     pub normal: Vec<f64>,
     /// The closest point of the surface (`dim` components).
     pub point: Vec<f64>,
+    /// The connected part of the surface it lies on (elements that share
+    /// a node are in one part), numbered from 0.
+    pub component: usize,
 }
 
 /// A surface as read: nodes, elements (`dim` corners each: segments in 2D,
@@ -177,6 +180,9 @@ pub struct MeshObstacle {
     /// Farther closest points are not returned.
     search: f64,
     tree: RTree<Prim>,
+    /// Each element's connected part, and how many parts.
+    component: Vec<u32>,
+    components: usize,
 }
 
 impl MeshObstacle {
@@ -275,7 +281,10 @@ impl MeshObstacle {
                 hi[k] = hi[k].max(p[k]);
             }
         }
+        let (component, components) = topology::components(&surface);
         Ok(MeshObstacle {
+            component,
+            components,
             size: geom::norm(&geom::sub(&hi, &lo)),
             surface,
             face_n,
@@ -288,18 +297,27 @@ impl MeshObstacle {
         })
     }
 
-    /// The same surface with every element's orientation reversed (a
-    /// segment's ends swapped, a triangle's last two corners): the obstacle
-    /// becomes the other side of it, a solid its cavity and a cavity its
-    /// solid. The search distance is kept.
-    pub fn reversed(self) -> Result<MeshObstacle, Error> {
+    /// The number of connected parts of the surface (see
+    /// [`Closest::component`]).
+    pub fn components(&self) -> usize {
+        self.components
+    }
+
+    /// The same surface with the orientation of every element of the parts
+    /// `flip[k]` reversed (a segment's ends swapped, a triangle's last two
+    /// corners): the obstacle becomes the other side of those parts, a
+    /// solid its cavity and a cavity its solid. The search distance is
+    /// kept.
+    pub fn reversed(self, flip: &[bool]) -> Result<MeshObstacle, Error> {
         let mut surface = self.surface;
-        for e in &mut surface.elems {
-            *e = if surface.dim == 2 {
-                [e[1], e[0], e[0]]
-            } else {
-                [e[0], e[2], e[1]]
-            };
+        for (e, &k) in surface.elems.iter_mut().zip(&self.component) {
+            if flip.get(k as usize).copied().unwrap_or(false) {
+                *e = if surface.dim == 2 {
+                    [e[1], e[0], e[0]]
+                } else {
+                    [e[0], e[2], e[1]]
+                };
+            }
         }
         Ok(MeshObstacle::from_surface(surface)?.with_search_distance(self.search))
     }
@@ -420,6 +438,7 @@ impl MeshObstacle {
             gap,
             normal: normal[..dim].to_vec(),
             point: p[..dim].to_vec(),
+            component: self.component[prim.elem] as usize,
         })
     }
 

@@ -350,6 +350,28 @@ fn gmsh_circle_counter_clockwise_is_a_disc() {
         let c = both.closest(&[5.0, 0.1]).unwrap();
         let err = c.gap + 0.4;
         assert!((0.0..=eps_other + 1e-12).contains(&err), "{format}: {c:?}");
+        // Two connected parts; the other circle alone reversed (a hole):
+        // the point inside it is now outside the obstacle, by as much, on
+        // the same part, and the rim is unchanged.
+        assert_eq!(both.components(), 2);
+        let part = c.component;
+        assert_eq!(both.closest(&[0.0, 0.1]).unwrap().component, 1 - part);
+        let mut flip = vec![false; 2];
+        flip[part] = true;
+        let before = both.enclosed_volume();
+        let holed = both.clone().reversed(&flip).unwrap();
+        let h = holed.closest(&[5.0, 0.1]).unwrap();
+        assert!(
+            (h.gap + c.gap).abs() < 1e-12 && h.component == part,
+            "{h:?}"
+        );
+        let r = holed.closest(&[0.0, 0.1]).unwrap();
+        assert_eq!(r, both.closest(&[0.0, 0.1]).unwrap());
+        let after = holed.enclosed_volume();
+        assert!(
+            (before - after - 2.0 * other.enclosed_volume()).abs() < 1e-12,
+            "{format}"
+        );
         let e = message(MeshObstacle::read_group(&path, 2, Some("nope")));
         assert!(
             e.contains("no physical group 'nope' of dimension 1 (the file has: other, rim)"),

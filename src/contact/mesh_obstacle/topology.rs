@@ -205,3 +205,35 @@ fn build_3d(s: &Surface, face_n: &[V3]) -> Result<Topology, Error> {
         first_open,
     })
 }
+
+/// The connected part of each element (elements that share a node are in
+/// one part), numbered from 0 in the order of their first element, and
+/// how many parts.
+pub(super) fn components(s: &Surface) -> (Vec<u32>, usize) {
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let mut parent: Vec<usize> = (0..s.coords.len()).collect();
+    for c in &s.elems {
+        let a = root(&mut parent, c[0]);
+        for &v in &c[1..s.dim] {
+            let b = root(&mut parent, v);
+            parent[b] = a;
+        }
+    }
+    let mut number = HashMap::new();
+    let part = s
+        .elems
+        .iter()
+        .map(|c| {
+            let r = root(&mut parent, c[0]);
+            let next = number.len() as u32;
+            *number.entry(r).or_insert(next)
+        })
+        .collect();
+    (part, number.len())
+}
