@@ -8,6 +8,8 @@
 //!   contact radius and peak pressure, and 1, 2 and 3 ranks agree.
 //! - A block pressed onto a rigid cylinder (3D slice in plane strain):
 //!   line contact, the 2D Hertz half-width; bad cylinder options.
+//! - An elastic disc in a rigid socket given as `-obstacle ball` around
+//!   it: the ball read as the cavity it bounds.
 
 mod common;
 
@@ -410,4 +412,96 @@ fn bad_normal_and_cylinder_options() {
     );
     let _ = std::fs::remove_dir_all(dir);
     let _ = std::fs::remove_dir_all(dir2);
+}
+
+/// An elastic disc (radius 0.9) resting under its weight in a rigid socket
+/// of radius 0.999 (Coulomb 0.3), the socket given as `-obstacle ball`
+/// around it: most of the body lies inside the ball, which is read as the
+/// cavity it bounds, with one warning saying so; the contact pressures are
+/// those of the socket given as a clockwise curve of segments (`-obstacle
+/// mesh`, tests/obstacles/pin_disc.geo with reverse = 1) to 1% of the peak
+/// (the segments' chordal error), on 2 ranks; 1 and 2 ranks agree to 1e-8.
+/// Before, the ball was a solid the disc started inside (every candidate
+/// but one pushed out by up to 0.2, a strain of 25%), exit 0.
+#[test]
+fn a_ball_around_the_body_is_a_socket() {
+    let (dir, msh) = mesh("normals-socket", 2, "disc_in_socket2d.geo");
+    let base = [
+        "-mesh",
+        &msh,
+        "-E",
+        "1e5",
+        "-nu",
+        "0.3",
+        "-gravity",
+        "0,-10",
+        "-density",
+        "100",
+        "-contact_surface",
+        "rim",
+        "-friction",
+        "coulomb",
+        "-friction_coefficient",
+        "0.3",
+        "-ubr_lambda_rtol",
+        "1e-9",
+    ];
+    let mut ball = base.to_vec();
+    ball.extend([
+        "-obstacle",
+        "ball",
+        "-obstacle_center",
+        "0,0",
+        "-obstacle_radius",
+        "0.999",
+    ]);
+    let (_, report, rows) = solve_rows("normals-socket-ball", 2, &ball);
+    let said: Vec<&String> = report
+        .warnings
+        .iter()
+        .filter(|w| w.contains("cavity"))
+        .collect();
+    assert_eq!(said.len(), 1, "{:?}", report.warnings);
+    assert!(
+        said[0].starts_with("-obstacle ball: 100% of the body's nodes lie inside it; it is read as the cavity it bounds"),
+        "{}",
+        said[0]
+    );
+    assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
+    // Held from below: the contact force balances the weight.
+    assert!(
+        (report.contact_force_vector[1] + report.load[1]).abs() < 1e-8 * report.load[1].abs(),
+        "contact {:?} load {:?}",
+        report.contact_force_vector,
+        report.load
+    );
+    for r in rows.iter().filter(|r| r.status != "open") {
+        assert!(
+            r.x[1] < -0.5 && r.normal[1] < -0.9,
+            "node {}: {:?}",
+            r.node,
+            r.normal
+        );
+    }
+    let (_, _, one) = solve_rows("normals-socket-ball-n1", 1, &ball);
+    let ranks = max_pressure_gap(&one, &rows);
+    assert!(ranks < 1e-8, "1 and 2 ranks: {ranks:e}");
+    let curve = dir.join("socket.msh");
+    common::gmsh(
+        "-1",
+        "tests/obstacles/pin_disc.geo",
+        &curve,
+        &[("h", "0.004"), ("reverse", "1")],
+    );
+    let mut surface = base.to_vec();
+    surface.extend([
+        "-obstacle",
+        "mesh",
+        "-obstacle_mesh",
+        curve.to_str().unwrap(),
+    ]);
+    let (_, report, segments) = solve_rows("normals-socket-mesh", 2, &surface);
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let gap = max_pressure_gap(&segments, &rows);
+    assert!(gap < 0.01, "the ball's cavity against the curve: {gap:e}");
 }

@@ -239,6 +239,7 @@ impl ContactSet {
             reoriented,
             ..Default::default()
         };
+        let cavity = round_cavities(world, mesh, settings, &mut set.reoriented);
         for v in 0..mesh.owned_count {
             if !on_surface[v] {
                 continue;
@@ -246,19 +247,10 @@ impl ContactSet {
             // The obstacle of smallest gap (the first on a tie).
             let mut best: Option<(f64, Vec<f64>, usize)> = None;
             for (k, (o, surface)) in settings.obstacles.iter().zip(&surfaces).enumerate() {
-                let x = mesh.x(v);
-                let found = if let Some(s) = surface {
-                    // Farther than the search distance: no candidate.
-                    s.closest(x).map(|c| (c.gap, c.normal))
-                } else if o.normal == NormalMode::Fixed {
-                    gap(x, &o.direction, &o.obstacle).map(|g| (g, o.direction.clone()))
-                } else {
-                    let found = closest(x, &o.direction, &o.obstacle);
-                    if found.is_none() && single {
-                        set.on_center.get_or_insert(mesh.node_tag[v]);
-                    }
-                    found
-                };
+                let (found, on_center) = gap_at(o, surface.as_ref(), cavity[k], mesh.x(v));
+                if on_center && single {
+                    set.on_center.get_or_insert(mesh.node_tag[v]);
+                }
                 if let Some((g, normal)) = found {
                     if best.as_ref().is_none_or(|b| g < b.0) {
                         best = Some((g, normal, k));
@@ -551,6 +543,84 @@ fn obstacle_surfaces<C: mpi::traits::Communicator>(
         });
     }
     Ok((surfaces, reoriented))
+}
+
+/// The gap and unit normal of obstacle `o` (its surface for `-obstacle
+/// mesh`; a ball or cylinder read as its cavity where `cavity`) at `x`, None
+/// where `x` is no candidate of it; and whether `x` lies on a ball's centre
+/// or a cylinder's axis with closest normals, where no normal is the
+/// closest.
+fn gap_at(
+    o: &NamedObstacle,
+    surface: Option<&mesh_obstacle::MeshObstacle>,
+    cavity: bool,
+    x: &[f64],
+) -> (Option<(f64, Vec<f64>)>, bool) {
+    if let Some(s) = surface {
+        // Farther than the search distance: no candidate.
+        return (s.closest(x).map(|c| (c.gap, c.normal)), false);
+    }
+    let fixed = o.normal == NormalMode::Fixed;
+    let along = |g: Option<f64>| g.map(|g| (g, o.direction.clone()));
+    let found = match (fixed, cavity) {
+        (true, false) => along(gap(x, &o.direction, &o.obstacle)),
+        (true, true) => along(obstacle::cavity_gap(x, &o.direction, &o.obstacle)),
+        (false, false) => closest(x, &o.direction, &o.obstacle),
+        (false, true) => obstacle::cavity_closest(x, &o.obstacle),
+    };
+    let on_center = !fixed && found.is_none();
+    (found, on_center)
+}
+
+/// Which obstacles of `settings` are read as the cavity they bound: a ball
+/// or a cylinder with most of the body's nodes inside it (up to
+/// [`ORIENT_SAMPLES`] per rank) is a socket or a bore holding the body,
+/// the rigid solid outside it; a warning naming it goes to `warnings`. A
+/// body cannot start inside a rigid solid (an interference fit puts a thin
+/// layer of it there, never most of it): read as a solid, such a ball
+/// crushed the body it was meant to hold. Collective.
+fn round_cavities<C: mpi::traits::Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    settings: &ContactSettings,
+    warnings: &mut Vec<String>,
+) -> Vec<bool> {
+    let obstacles = &settings.obstacles;
+    let step = (mesh.owned_count / ORIENT_SAMPLES).max(1);
+    // Per obstacle: nodes inside, nodes outside.
+    let mut count = vec![0.0; 2 * obstacles.len()];
+    for v in (0..mesh.owned_count).step_by(step) {
+        for (k, o) in obstacles.iter().enumerate() {
+            match obstacle::inside_round(mesh.x(v), &o.obstacle) {
+                Some(true) => count[2 * k] += 1.0,
+                Some(false) => count[2 * k + 1] += 1.0,
+                None => {}
+            }
+        }
+    }
+    let count = crate::comm::allreduce_sum_vec(world, &count);
+    let mut cavity = Vec::with_capacity(obstacles.len());
+    for (o, c) in obstacles.iter().zip(count.chunks(2)) {
+        let inside = c[0] > c[1];
+        if inside {
+            let kind = if matches!(o.obstacle, Obstacle::Ball { .. }) {
+                "ball"
+            } else {
+                "cylinder"
+            };
+            let option = if settings.named {
+                format!("-obstacle_{}", o.name)
+            } else {
+                "-obstacle".to_string()
+            };
+            warnings.push(format!(
+                "{option} {kind}: {:.0}% of the body's nodes lie inside it; it is read as the cavity it bounds (a socket, a bore), the rigid solid outside it and the body within (a {kind} the body rests on or wraps lies outside the body)",
+                100.0 * c[0] / (c[0] + c[1])
+            ));
+        }
+        cavity.push(inside);
+    }
+    cavity
 }
 
 /// The option that names a single obstacle's surface file.

@@ -101,6 +101,60 @@ pub fn closest(x: &[f64], direction: &[f64], obstacle: &Obstacle) -> Option<(f64
     }
 }
 
+/// Whether `x` lies inside a ball or a cylinder (None for the other
+/// obstacles, which have no inside a body could fill).
+pub fn inside_round(x: &[f64], obstacle: &Obstacle) -> Option<bool> {
+    let (center, axis, radius) = round(obstacle)?;
+    let dc: Vec<f64> = x.iter().zip(center).map(|(x, c)| x - c).collect();
+    let dc = off_axis(&dc, axis);
+    Some(dc.iter().map(|v| v * v).sum::<f64>() < radius * radius)
+}
+
+/// A ball's or a cylinder's centre, axis (empty for a ball) and radius.
+fn round(obstacle: &Obstacle) -> Option<(&[f64], &[f64], f64)> {
+    match obstacle {
+        Obstacle::Ball { center, radius } => Some((center, &[], *radius)),
+        Obstacle::Cylinder {
+            center,
+            axis,
+            radius,
+        } => Some((center, axis, *radius)),
+        _ => None,
+    }
+}
+
+/// [`closest`] for the cavity a ball or a cylinder bounds (a socket, a
+/// bore: the rigid solid is outside it, the body inside): the gap
+/// `radius - distance` from the centre (or the axis) and the unit normal
+/// from `x` away from it, toward the wall. `None` on the centre (or the
+/// axis), where no direction is the closest, and for the other obstacles.
+pub fn cavity_closest(x: &[f64], obstacle: &Obstacle) -> Option<(f64, Vec<f64>)> {
+    let (center, axis, radius) = round(obstacle)?;
+    let dc: Vec<f64> = x.iter().zip(center).map(|(x, c)| x - c).collect();
+    let dc = off_axis(&dc, axis);
+    let dist = dc.iter().map(|v| v * v).sum::<f64>().sqrt();
+    (dist > 0.0).then(|| (radius - dist, dc.iter().map(|v| v / dist).collect()))
+}
+
+/// [`gap`] for the cavity of [`cavity_closest`]: from `x` along `n` to
+/// where the line leaves the ball (or the cylinder), `t2` of the two
+/// meeting points (negative when both lie behind: `x` beyond the wall);
+/// `None` when the line misses it.
+pub fn cavity_gap(x: &[f64], n: &[f64], obstacle: &Obstacle) -> Option<f64> {
+    let (center, axis, radius) = round(obstacle)?;
+    let (xp, np, cp) = (off_axis(x, axis), off_axis(n, axis), off_axis(center, axis));
+    let len = np.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if len < 1e-12 {
+        return None;
+    }
+    let np: Vec<f64> = np.iter().map(|v| v / len).collect();
+    let dc: Vec<f64> = xp.iter().zip(&cp).map(|(x, c)| x - c).collect();
+    let b = dc.iter().zip(&np).map(|(a, b)| a * b).sum::<f64>();
+    let c = dc.iter().map(|a| a * a).sum::<f64>() - radius * radius;
+    let disc = b * b - c;
+    (disc > 0.0).then(|| (-b + disc.sqrt()) / len)
+}
+
 /// Where the line `x + t n` enters the ball: `t1` when it meets the sphere at
 /// `t1 < t2` with `t2 > 0`, else `None`.
 fn ball_entry(x: &[f64], n: &[f64], center: &[f64], radius: f64) -> Option<f64> {
@@ -120,6 +174,49 @@ fn ball_entry(x: &[f64], n: &[f64], center: &[f64], radius: f64) -> Option<f64> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cavity_gaps_and_normals() {
+        let ball = Obstacle::Ball {
+            center: vec![0.0, 1.0],
+            radius: 1.0,
+        };
+        // 0.25 below the centre: the wall below is 0.75 away, downward.
+        let (g, n) = cavity_closest(&[0.0, 0.75], &ball).unwrap();
+        assert!(
+            (g - 0.75).abs() < 1e-15 && n == vec![0.0, -1.0],
+            "{g} {n:?}"
+        );
+        assert_eq!(cavity_gap(&[0.0, 0.75], &[0.0, -1.0], &ball), Some(0.75));
+        // Along a slanted n from the centre: the radius.
+        let s = 0.5f64.sqrt();
+        let t = cavity_gap(&[0.0, 1.0], &[s, -s], &ball).unwrap();
+        assert!((t - 1.0).abs() < 1e-15, "{t}");
+        // Beyond the wall (in the solid): a negative gap, a penetration.
+        let (g, _) = cavity_closest(&[0.0, -0.1], &ball).unwrap();
+        assert!((g + 0.1).abs() < 1e-15, "{g}");
+        assert!(cavity_closest(&[0.0, 1.0], &ball).is_none());
+        assert_eq!(inside_round(&[0.0, 0.75], &ball), Some(true));
+        assert_eq!(inside_round(&[0.0, -0.1], &ball), Some(false));
+        // A 3D cylinder along z: the axis direction does not count.
+        let cyl = Obstacle::Cylinder {
+            center: vec![0.0, 0.0, 0.0],
+            axis: vec![0.0, 0.0, 1.0],
+            radius: 2.0,
+        };
+        let (g, n) = cavity_closest(&[0.5, 0.0, 7.0], &cyl).unwrap();
+        assert!(
+            (g - 1.5).abs() < 1e-15 && n == vec![1.0, 0.0, 0.0],
+            "{g} {n:?}"
+        );
+        let t = cavity_gap(&[0.5, 0.0, 7.0], &[s, 0.0, -s], &cyl).unwrap();
+        assert!((t - 1.5 / s).abs() < 1e-12, "{t}");
+        assert_eq!(inside_round(&[0.5, 0.0, 70.0], &cyl), Some(true));
+        let plane = Obstacle::Plane {
+            point: vec![0.0, 0.0],
+        };
+        assert!(inside_round(&[0.0, 0.0], &plane).is_none());
+    }
 
     #[test]
     fn ball_gap() {
