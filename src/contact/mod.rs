@@ -58,7 +58,8 @@ pub struct ContactSet {
     /// A pair's slave node: its image on the master (`dim` values per
     /// candidate, zero against a rigid obstacle).
     pub image: Vec<f64>,
-    /// Warnings of [`Self::build`]: an obstacle surface read reversed.
+    /// Warnings of [`Self::build`]: an obstacle surface read reversed, a
+    /// ball or a cylinder read as the cavity it bounds.
     pub reoriented: Vec<String>,
 }
 
@@ -586,6 +587,15 @@ fn round_cavities<C: mpi::traits::Communicator>(
     warnings: &mut Vec<String>,
 ) -> Vec<bool> {
     let obstacles = &settings.obstacles;
+    // Nothing to ask of contact pairs alone (the same on every rank).
+    if !obstacles.iter().any(|o| {
+        matches!(
+            o.obstacle,
+            Obstacle::Ball { .. } | Obstacle::Cylinder { .. }
+        )
+    }) {
+        return vec![false; obstacles.len()];
+    }
     let step = (mesh.owned_count / ORIENT_SAMPLES).max(1);
     // Per obstacle: nodes inside, nodes outside.
     let mut count = vec![0.0; 2 * obstacles.len()];
