@@ -5,25 +5,6 @@
 mod common;
 use common::*;
 
-/// The block of tests/obstacles/multi_block2d.geo, held in x at its top
-/// midpoint, at a tight tolerance.
-fn block<'a>(msh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
-    let mut v = vec![
-        "-mesh",
-        msh,
-        "-E",
-        "1e6",
-        "-nu",
-        "0.3",
-        "-dirichlet_mid",
-        "ux=0",
-        "-ubr_lambda_rtol",
-        "1e-9",
-    ];
-    v.extend_from_slice(extra);
-    v
-}
-
 /// Squeezed between two plates (each overlapping the block by 0.01) under
 /// its weight: both plates carry load, and floor + roof + weight = 0 to
 /// 1e-8 of the weight (measured: floor 5.38e4, roof -3.41e4, weight
@@ -32,7 +13,7 @@ fn block<'a>(msh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
 #[test]
 fn a_block_between_two_plates() {
     let (dir, msh) = gmsh_2d("obstacles-plates", "tests/obstacles/multi_block2d.geo");
-    let args = block(
+    let args = block2d(
         &msh,
         &[
             "-density",
@@ -109,7 +90,7 @@ fn a_block_between_two_plates() {
 fn a_block_on_two_balls() {
     let (dir, msh) = gmsh_2d("obstacles-balls", "tests/obstacles/multi_block2d.geo");
     let table = dir.join("steps.csv");
-    let args = block(
+    let args = block2d(
         &msh,
         &[
             "-traction_top",
@@ -264,7 +245,7 @@ fn bad_obstacle_lists_are_refused() {
     ];
     for (extra, needle) in cases {
         for ranks in [1, 2] {
-            let mut args = block(&msh, &base);
+            let mut args = block2d(&msh, &base);
             args.extend(&extra);
             let run = mpirun(ranks, &args);
             run.refused(&format!("{extra:?}"), 2, &[needle]);

@@ -83,6 +83,28 @@ fn a_triangulated_ball_converges_to_the_ball() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The plate of tests/normals/pin2d.geo (a hole of radius 1 about the
+/// origin, its rim "seat") pushed by 0.02 onto a rigid pin inside it, at a
+/// tight tolerance; `obstacle`: the pin.
+fn pin_plate<'a>(msh: &'a str, obstacle: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec![
+        "-mesh",
+        msh,
+        "-E",
+        "1000",
+        "-nu",
+        "0.3",
+        "-dirichlet_outer",
+        "ux=0,uy=0.02",
+        "-contact_surface",
+        "seat",
+        "-ubr_lambda_rtol",
+        "1e-8",
+    ];
+    v.extend_from_slice(obstacle);
+    v
+}
+
 /// 2D: the pin of tests/normals (a disc of radius 0.999 in a hole of
 /// radius 1, the plate pushed by 0.02) given as a closed curve of segments
 /// of size h: the contact pressures converge to `-obstacle ball`'s as the
@@ -96,44 +118,34 @@ fn a_polygonal_pin_converges_to_the_disc() {
     let plate_msh = dir.join("pin2d.msh");
     gmsh("-2", "tests/normals/pin2d.geo", &plate_msh, &[]);
     let p = plate_msh.to_str().unwrap();
-    let base = [
-        "-mesh",
+    let exact_args = pin_plate(
         p,
-        "-E",
-        "1000",
-        "-nu",
-        "0.3",
-        "-dirichlet_outer",
-        "ux=0,uy=0.02",
-        "-contact_surface",
-        "seat",
-        "-ubr_lambda_rtol",
-        "1e-8",
-    ];
-    let mut exact_args = base.to_vec();
-    exact_args.extend([
-        "-obstacle",
-        "ball",
-        "-obstacle_center",
-        "0,0",
-        "-obstacle_radius",
-        "0.999",
-    ]);
+        &[
+            "-obstacle",
+            "ball",
+            "-obstacle_center",
+            "0,0",
+            "-obstacle_radius",
+            "0.999",
+        ],
+    );
     let (_, _, exact) = solve_rows("surface-pin-exact", 2, &exact_args);
     let mut gaps = Vec::new();
     for h in ["0.01", "0.005"] {
         let m = dir.join(format!("pin{h}.msh"));
         gmsh("-1", "tests/obstacles/pin_disc.geo", &m, &[("h", h)]);
         let m = m.to_str().unwrap().to_string();
-        let mut args = base.to_vec();
-        args.extend([
-            "-obstacle",
-            "mesh",
-            "-obstacle_mesh",
-            &m,
-            "-obstacle_mesh_group",
-            "pin",
-        ]);
+        let args = pin_plate(
+            p,
+            &[
+                "-obstacle",
+                "mesh",
+                "-obstacle_mesh",
+                &m,
+                "-obstacle_mesh_group",
+                "pin",
+            ],
+        );
         let (_, _, rows) = solve_rows(&format!("surface-pin-{h}"), 2, &args);
         let gap = max_pressure_gap(&rows, &exact);
         eprintln!("h {h}: pressures {gap:.3e} of the peak from the disc");
@@ -172,26 +184,17 @@ fn a_surface_oriented_toward_the_body_is_read_reversed() {
             &[("h", "0.01"), ("reverse", reverse)],
         );
         let m = m.to_str().unwrap();
-        let args = [
-            "-mesh",
+        let args = pin_plate(
             p,
-            "-E",
-            "1000",
-            "-nu",
-            "0.3",
-            "-dirichlet_outer",
-            "ux=0,uy=0.02",
-            "-contact_surface",
-            "seat",
-            "-ubr_lambda_rtol",
-            "1e-8",
-            "-obstacle",
-            "mesh",
-            "-obstacle_mesh",
-            m,
-            "-obstacle_mesh_group",
-            "pin",
-        ];
+            &[
+                "-obstacle",
+                "mesh",
+                "-obstacle_mesh",
+                m,
+                "-obstacle_mesh_group",
+                "pin",
+            ],
+        );
         let name = format!("surface-reversed-{reverse}-{ranks}");
         let (_, report, r) = solve_rows(&name, ranks, &args);
         let flipped: Vec<&String> = report
@@ -270,26 +273,19 @@ fn one_part_of_a_surface_drawn_the_other_way_is_read_reversed() {
             &[("reverse_right", reverse)],
         );
         let m = m.to_str().unwrap();
-        let args = [
-            "-mesh",
+        let args = block2d(
             &msh,
-            "-E",
-            "1e6",
-            "-nu",
-            "0.3",
-            "-dirichlet_mid",
-            "ux=0",
-            "-traction_top",
-            "0,-1e3",
-            "-contact_surface",
-            "bottom",
-            "-obstacle",
-            "mesh",
-            "-obstacle_mesh",
-            m,
-            "-ubr_lambda_rtol",
-            "1e-9",
-        ];
+            &[
+                "-traction_top",
+                "0,-1e3",
+                "-contact_surface",
+                "bottom",
+                "-obstacle",
+                "mesh",
+                "-obstacle_mesh",
+                m,
+            ],
+        );
         let (_, report, r) = solve_rows(&format!("surface-two-discs-{reverse}"), 2, &args);
         let flipped: Vec<&String> = report
             .warnings

@@ -587,28 +587,19 @@ fn round_cavities<C: mpi::traits::Communicator>(
     warnings: &mut Vec<String>,
 ) -> Vec<bool> {
     let obstacles = &settings.obstacles;
-    // Nothing to ask of contact pairs alone (the same on every rank).
-    if !obstacles.iter().any(|o| {
-        matches!(
-            o.obstacle,
-            Obstacle::Ball { .. } | Obstacle::Cylinder { .. }
-        )
-    }) {
+    // Nothing to ask of planes, surfaces or contact pairs alone (the same
+    // on every rank).
+    if !obstacles.iter().any(|o| obstacle::is_round(&o.obstacle)) {
         return vec![false; obstacles.len()];
     }
-    let step = (mesh.owned_count / ORIENT_SAMPLES).max(1);
-    // Per obstacle: nodes inside, nodes outside.
-    let mut count = vec![0.0; 2 * obstacles.len()];
-    for v in (0..mesh.owned_count).step_by(step) {
+    // Per obstacle: nodes inside, nodes outside (none for the others).
+    let count = body_sides(world, mesh, obstacles.len(), |x, count| {
         for (k, o) in obstacles.iter().enumerate() {
-            match obstacle::inside_round(mesh.x(v), &o.obstacle) {
-                Some(true) => count[2 * k] += 1.0,
-                Some(false) => count[2 * k + 1] += 1.0,
-                None => {}
+            if let Some(inside) = obstacle::inside_round(x, &o.obstacle) {
+                count[2 * k + usize::from(!inside)] += 1.0;
             }
         }
-    }
-    let count = crate::comm::allreduce_sum_vec(world, &count);
+    });
     let mut cavity = Vec::with_capacity(obstacles.len());
     for (o, c) in obstacles.iter().zip(count.chunks(2)) {
         let inside = c[0] > c[1];
@@ -640,6 +631,25 @@ const OPTION_MESH: &str = "-obstacle_mesh";
 /// in [`orient_to_body`] (evenly spaced in its numbering; all where fewer).
 const ORIENT_SAMPLES: usize = 4096;
 
+/// The body's sides of `parts` things (obstacles, parts of a surface):
+/// `count` adds each sampled node (up to [`ORIENT_SAMPLES`] of the owned
+/// nodes per rank, evenly spaced) to its thing's pair (inside, outside) of
+/// the `2 * parts` sums, which are then summed over the ranks.
+/// Collective.
+fn body_sides<C: mpi::traits::Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    parts: usize,
+    count: impl Fn(&[f64], &mut [f64]),
+) -> Vec<f64> {
+    let step = (mesh.owned_count / ORIENT_SAMPLES).max(1);
+    let mut sums = vec![0.0; 2 * parts];
+    for v in (0..mesh.owned_count).step_by(step) {
+        count(mesh.x(v), &mut sums);
+    }
+    crate::comm::allreduce_sum_vec(world, &sums)
+}
+
 /// The obstacle of a closed surface is the side its normals point away
 /// from (the module doc of [`mesh_obstacle`]); a connected part of the
 /// surface whose orientation puts most of the body's nodes nearest to it
@@ -662,17 +672,11 @@ fn orient_to_body<C: mpi::traits::Communicator>(
     let search = surface.search_distance();
     let surface = surface.with_search_distance(f64::INFINITY);
     let parts = surface.components();
-    let step = (mesh.owned_count / ORIENT_SAMPLES).max(1);
     // Per part: nodes inside, nodes outside.
-    let mut count = vec![0.0; 2 * parts];
-    for v in (0..mesh.owned_count).step_by(step) {
-        match surface.closest(mesh.x(v)) {
-            Some(c) if c.gap < 0.0 => count[2 * c.component] += 1.0,
-            Some(c) if c.gap > 0.0 => count[2 * c.component + 1] += 1.0,
-            _ => {}
-        }
-    }
-    let count = crate::comm::allreduce_sum_vec(world, &count);
+    let count = body_sides(world, mesh, parts, |x, count| match surface.closest(x) {
+        Some(c) if c.gap != 0.0 => count[2 * c.component + usize::from(c.gap > 0.0)] += 1.0,
+        _ => {}
+    });
     let surface = surface.with_search_distance(search);
     let flip: Vec<bool> = count.chunks(2).map(|c| c[0] > c[1]).collect();
     let flipped = flip.iter().filter(|&&f| f).count();

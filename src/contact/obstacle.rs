@@ -27,27 +27,21 @@ impl Obstacle {
 /// plane's t), and the floor elsewhere, so every node is a candidate.
 pub fn gap(x: &[f64], n: &[f64], obstacle: &Obstacle) -> Option<f64> {
     let along = |p: &[f64]| -> f64 { p.iter().zip(x).zip(n).map(|((p, x), n)| (p - x) * n).sum() };
+    // Where the line enters: t1 of the meeting points t1 < t2, t2 > 0.
+    let entry = |(t1, t2): (f64, f64)| (t2 > 0.0).then_some(t1);
     match obstacle {
         Obstacle::Plane { point } => Some(along(point)),
-        Obstacle::Ball { center, radius } => ball_entry(x, n, center, *radius),
-        Obstacle::HalfBall { center, radius } => {
-            Some(ball_entry(x, n, center, *radius).unwrap_or_else(|| along(center)))
-        }
+        Obstacle::Ball { center, radius } => meets(x, n, center, &[], *radius).and_then(entry),
+        Obstacle::HalfBall { center, radius } => Some(
+            meets(x, n, center, &[], *radius)
+                .and_then(entry)
+                .unwrap_or_else(|| along(center)),
+        ),
         Obstacle::Cylinder {
             center,
             axis,
             radius,
-        } => {
-            // The line and the centre seen in the plane orthogonal to the
-            // axis, where the cylinder is a disc.
-            let (xp, np) = (off_axis(x, axis), off_axis(n, axis));
-            let len = np.iter().map(|v| v * v).sum::<f64>().sqrt();
-            if len < 1e-12 {
-                return None;
-            }
-            let np: Vec<f64> = np.iter().map(|v| v / len).collect();
-            ball_entry(&xp, &np, &off_axis(center, axis), *radius).map(|t| t / len)
-        }
+        } => meets(x, n, center, axis, *radius).and_then(entry),
         // (Refused by the options: a surface's gaps are closest-point ones,
         // [`crate::contact::mesh_obstacle`].)
         Obstacle::Mesh { .. } => None,
@@ -71,10 +65,8 @@ fn off_axis(v: &[f64], axis: &[f64]) -> Vec<f64> {
 /// is the closest.
 pub fn closest(x: &[f64], direction: &[f64], obstacle: &Obstacle) -> Option<(f64, Vec<f64>)> {
     let radial = |center: &[f64], axis: &[f64], radius: f64| {
-        let dc: Vec<f64> = x.iter().zip(center).map(|(x, c)| c - x).collect();
-        let dc = off_axis(&dc, axis);
-        let dist = dc.iter().map(|v| v * v).sum::<f64>().sqrt();
-        (dist > 0.0).then(|| (dist - radius, dc.iter().map(|v| v / dist).collect()))
+        let (dist, dc) = from_axis(x, center, axis);
+        (dist > 0.0).then(|| (dist - radius, dc.iter().map(|v| -v / dist).collect()))
     };
     match obstacle {
         Obstacle::Plane { .. } => Some((gap(x, direction, obstacle)?, direction.to_vec())),
@@ -101,13 +93,53 @@ pub fn closest(x: &[f64], direction: &[f64], obstacle: &Obstacle) -> Option<(f64
     }
 }
 
+/// The distance of `x` from a centre (empty `axis`) or from the axis
+/// through it, and the offset `x - center` without its part along the axis.
+fn from_axis(x: &[f64], center: &[f64], axis: &[f64]) -> (f64, Vec<f64>) {
+    let dc: Vec<f64> = x.iter().zip(center).map(|(x, c)| x - c).collect();
+    let dc = off_axis(&dc, axis);
+    (dc.iter().map(|v| v * v).sum::<f64>().sqrt(), dc)
+}
+
+/// Where the line `x + t n` (unit `n`) meets the sphere of `radius` about
+/// `center` (empty `axis`), or the cylinder about the axis through it: the
+/// parameters `t1 < t2`; `None` when it misses (or runs along the axis).
+fn meets(x: &[f64], n: &[f64], center: &[f64], axis: &[f64], radius: f64) -> Option<(f64, f64)> {
+    // The line and the centre seen in the plane orthogonal to the axis,
+    // where the cylinder is a disc: n's part there, of length len.
+    let (np, len) = if axis.is_empty() {
+        (n.to_vec(), 1.0)
+    } else {
+        let np = off_axis(n, axis);
+        let len = np.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if len < 1e-12 {
+            return None;
+        }
+        (np.iter().map(|v| v / len).collect(), len)
+    };
+    // |dc + t np|^2 = R^2: t^2 + 2 t dc.np + |dc|^2 - R^2 = 0.
+    let (_, dc) = from_axis(x, center, axis);
+    let b = dc.iter().zip(&np).map(|(a, b)| a * b).sum::<f64>();
+    let c = dc.iter().map(|a| a * a).sum::<f64>() - radius * radius;
+    let disc = b * b - c;
+    if disc <= 0.0 {
+        return None;
+    }
+    let s = disc.sqrt();
+    Some(((-b - s) / len, (-b + s) / len))
+}
+
 /// Whether `x` lies inside a ball or a cylinder (None for the other
 /// obstacles, which have no inside a body could fill).
 pub fn inside_round(x: &[f64], obstacle: &Obstacle) -> Option<bool> {
     let (center, axis, radius) = round(obstacle)?;
-    let dc: Vec<f64> = x.iter().zip(center).map(|(x, c)| x - c).collect();
-    let dc = off_axis(&dc, axis);
-    Some(dc.iter().map(|v| v * v).sum::<f64>() < radius * radius)
+    Some(from_axis(x, center, axis).0 < radius)
+}
+
+/// Whether the obstacle is a ball or a cylinder (it has an inside a body
+/// could fill: [`inside_round`]).
+pub fn is_round(obstacle: &Obstacle) -> bool {
+    round(obstacle).is_some()
 }
 
 /// A ball's or a cylinder's centre, axis (empty for a ball) and radius.
@@ -130,9 +162,7 @@ fn round(obstacle: &Obstacle) -> Option<(&[f64], &[f64], f64)> {
 /// axis), where no direction is the closest, and for the other obstacles.
 pub fn cavity_closest(x: &[f64], obstacle: &Obstacle) -> Option<(f64, Vec<f64>)> {
     let (center, axis, radius) = round(obstacle)?;
-    let dc: Vec<f64> = x.iter().zip(center).map(|(x, c)| x - c).collect();
-    let dc = off_axis(&dc, axis);
-    let dist = dc.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let (dist, dc) = from_axis(x, center, axis);
     (dist > 0.0).then(|| (radius - dist, dc.iter().map(|v| v / dist).collect()))
 }
 
@@ -142,33 +172,7 @@ pub fn cavity_closest(x: &[f64], obstacle: &Obstacle) -> Option<(f64, Vec<f64>)>
 /// `None` when the line misses it.
 pub fn cavity_gap(x: &[f64], n: &[f64], obstacle: &Obstacle) -> Option<f64> {
     let (center, axis, radius) = round(obstacle)?;
-    let (xp, np, cp) = (off_axis(x, axis), off_axis(n, axis), off_axis(center, axis));
-    let len = np.iter().map(|v| v * v).sum::<f64>().sqrt();
-    if len < 1e-12 {
-        return None;
-    }
-    let np: Vec<f64> = np.iter().map(|v| v / len).collect();
-    let dc: Vec<f64> = xp.iter().zip(&cp).map(|(x, c)| x - c).collect();
-    let b = dc.iter().zip(&np).map(|(a, b)| a * b).sum::<f64>();
-    let c = dc.iter().map(|a| a * a).sum::<f64>() - radius * radius;
-    let disc = b * b - c;
-    (disc > 0.0).then(|| (-b + disc.sqrt()) / len)
-}
-
-/// Where the line `x + t n` enters the ball: `t1` when it meets the sphere at
-/// `t1 < t2` with `t2 > 0`, else `None`.
-fn ball_entry(x: &[f64], n: &[f64], center: &[f64], radius: f64) -> Option<f64> {
-    // |x + t n - c|^2 = R^2, |n| = 1: t^2 + 2 t (x-c).n + |x-c|^2 - R^2 = 0.
-    let dc: Vec<f64> = x.iter().zip(center).map(|(x, c)| x - c).collect();
-    let b = dc.iter().zip(n).map(|(a, b)| a * b).sum::<f64>();
-    let c = dc.iter().map(|a| a * a).sum::<f64>() - radius * radius;
-    let disc = b * b - c;
-    if disc <= 0.0 {
-        return None;
-    }
-    let s = disc.sqrt();
-    let (t1, t2) = (-b - s, -b + s);
-    (t2 > 0.0).then_some(t1)
+    meets(x, n, center, axis, radius).map(|(_, t2)| t2)
 }
 
 #[cfg(test)]

@@ -320,6 +320,26 @@ pub fn hertz_args<'a>(mesh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
     v
 }
 
+/// The block of tests/obstacles/multi_block2d.geo (tests/obstacles.rs,
+/// tests/surface_obstacle.rs), held in x at its top
+/// midpoint, at a tight tolerance.
+pub fn block2d<'a>(msh: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec![
+        "-mesh",
+        msh,
+        "-E",
+        "1e6",
+        "-nu",
+        "0.3",
+        "-dirichlet_mid",
+        "ux=0",
+        "-ubr_lambda_rtol",
+        "1e-9",
+    ];
+    v.extend_from_slice(extra);
+    v
+}
+
 /// The punch pressed on the base (tests/pairs/punch3d.geo: two boxes meshed
 /// apart, the punch's bottom a contact pair's slave on the base's top),
 /// meshed into `dir`; returns the mesh's path.
