@@ -187,6 +187,10 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     fn run(&mut self, unused: &mut Unused) -> Result<(), Error> {
         let mut local = self.make_and_distribute_mesh()?;
         crate::fem::material::resolve(&mut local, &self.settings)?;
+        if self.settings.reference.is_some() {
+            let e_star = crate::fem::material::contact_e_star(self.world, &local, &self.settings);
+            self.settings.contact_e_star = e_star;
+        }
         let nu = crate::fem::material::local_max_nu(&local, &self.settings);
         let nu = crate::comm::allreduce_max_n(self.world, nu);
         if let Some(w) = crate::fem::material::locking_warning(nu, &local, &self.settings) {

@@ -227,6 +227,9 @@ pub struct Settings {
     pub ssn_initial_shift: Vec<f64>,
     pub ssn_max_it: usize,
     pub reference: Option<HertzReference>,
+    /// Hertz's E* of the contact, from the materials under its surfaces
+    /// (set once the mesh is read: [`Settings::e_star`]).
+    pub contact_e_star: Option<f64>,
     /// `-reference_center`: the centre of the contact, with or without a reference.
     pub contact_center: Option<Vec<f64>>,
     pub report: Option<String>,
@@ -647,12 +650,20 @@ fn reference() -> Result<Option<HertzReference>, Error> {
     let Some(force) = REFERENCE_FORCE.real()? else {
         return bad("option -reference_force is required with -reference hertz");
     };
-    let Some(radius) = REFERENCE_RADIUS.real()? else {
+    let Some(radii) = REFERENCE_RADIUS.vector()? else {
         return bad("option -reference_radius is required with -reference hertz");
     };
-    if force <= 0.0 || radius <= 0.0 {
+    if radii.len() > 2 {
+        return bad(format!(
+            "option -reference_radius: {} values given; it takes R (a body on a rigid plane, or the two bodies' effective radius) or R1,R2 (two bodies: 1/R = 1/R1 + 1/R2)",
+            radii.len()
+        ));
+    }
+    if force <= 0.0 || radii.iter().any(|&r| r <= 0.0) {
         return bad("options -reference_force and -reference_radius must be positive");
     }
+    // Two bodies' curvatures add (Johnson, Contact Mechanics, 4.2).
+    let radius = 1.0 / radii.iter().map(|r| 1.0 / r).sum::<f64>();
     Ok(Some(HertzReference {
         force,
         radius,
@@ -846,6 +857,7 @@ impl Settings {
             ssn_initial_shift,
             ssn_max_it,
             reference,
+            contact_e_star: None,
             contact_center,
             report: out.report,
             contact_output: out.contact_output,

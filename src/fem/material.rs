@@ -7,6 +7,11 @@
 //! every rank, so every check here gives every rank the same answer (its
 //! errors are collective) without communication.
 
+use std::collections::HashMap;
+
+use mpi::traits::Communicator;
+
+use crate::comm::allreduce_max_vec;
 use crate::error::{bad, Error};
 use crate::mesh::distribute::LocalMesh;
 use crate::mesh::CellMaterials;
@@ -197,6 +202,89 @@ pub fn of_cell(mesh: &LocalMesh, settings: &Settings, c: usize) -> Material {
             density: settings.materials.global.density,
         },
     }
+}
+
+/// E/(1 - nu^2) of material `m`, or E in plane stress: a body's part of
+/// Hertz's E*.
+fn hertz_modulus(m: &Material, dim: usize, plane_stress: bool) -> f64 {
+    if dim == 2 && plane_stress {
+        m.young
+    } else {
+        m.young / (1.0 - m.nu * m.nu)
+    }
+}
+
+/// Of each side (a list of surface groups), the largest
+/// [`hertz_modulus`] of the local cells that hold one of its facets
+/// (-infinity where this rank holds none).
+fn side_moduli(mesh: &LocalMesh, settings: &Settings, sides: &[Vec<&str>]) -> Vec<f64> {
+    let facets: Vec<Vec<&[usize]>> = sides
+        .iter()
+        .map(|groups| {
+            groups
+                .iter()
+                .filter_map(|g| mesh.group(g))
+                .flat_map(|g| g.conn.iter())
+                .filter(|f| !f.is_empty())
+                .collect()
+        })
+        .collect();
+    // The cells at each facet's first node.
+    let mut at: HashMap<usize, Vec<usize>> = facets
+        .iter()
+        .flatten()
+        .map(|f| (f[0], Vec::new()))
+        .collect();
+    for (c, cell) in mesh.cells.iter().enumerate() {
+        for v in cell {
+            if let Some(cells) = at.get_mut(v) {
+                cells.push(c);
+            }
+        }
+    }
+    let plane_stress = settings.plane_stress;
+    facets
+        .iter()
+        .map(|side| {
+            let mut e = f64::NEG_INFINITY;
+            for f in side {
+                for &c in &at[&f[0]] {
+                    let cell = mesh.cells.get(c);
+                    if f.iter().all(|v| cell.contains(v)) {
+                        let m = of_cell(mesh, settings, c);
+                        e = e.max(hertz_modulus(&m, mesh.dim, plane_stress));
+                    }
+                }
+            }
+            e
+        })
+        .collect()
+}
+
+/// E* of Hertz's formulas for the scene's contact (`-reference hertz`,
+/// `-tresca_bound hertz`; Johnson, Contact Mechanics, 4.2-4.3): on a rigid
+/// obstacle E/(1 - nu^2) (E in plane stress, 2D) of the cells under the
+/// contact surface; for two elastic bodies (`-contact_pair`) 1/E* = 1/E*_1
+/// + 1/E*_2, each body's from the cells under its surface of the pair. A
+/// surface on cells of several materials takes the stiffest; of several
+/// contacts (pairs, a pair and an obstacle), the largest E*. None where the
+/// mesh holds none of the surfaces' facets. Collective.
+pub fn contact_e_star<C: Communicator>(
+    world: &C,
+    mesh: &LocalMesh,
+    settings: &Settings,
+) -> Option<f64> {
+    let contact = settings.contact.as_ref()?;
+    let rigid: Vec<&str> = contact.surfaces.iter().map(String::as_str).collect();
+    let mut sides = vec![rigid];
+    for (slave, master) in &contact.pairs {
+        sides.push(vec![slave.as_str()]);
+        sides.push(vec![master.as_str()]);
+    }
+    let e = allreduce_max_vec(world, &side_moduli(mesh, settings, &sides));
+    let pairs = e[1..].chunks(2).map(|p| 1.0 / (1.0 / p[0] + 1.0 / p[1]));
+    let best = pairs.fold(e[0], f64::max);
+    (best.is_finite() && best > 0.0).then_some(best)
 }
 
 /// The distinct materials of the mesh's cells, the global one first (it

@@ -180,10 +180,16 @@ impl Settings {
         })
     }
 
-    /// E* of the Hertz formulas: E/(1-nu^2), or E in plane stress, of the
-    /// stiffest material ([`Settings::stiffest`]: the global one when the
-    /// options name no other).
+    /// E* of the Hertz formulas: the contact's, from the materials under
+    /// its surfaces once the mesh is read
+    /// ([`crate::fem::material::contact_e_star`]); before, or where the
+    /// mesh holds none of the surfaces, E/(1-nu^2), or E in plane stress,
+    /// of the stiffest material ([`Settings::stiffest`]: the global one
+    /// when the options name no other).
     pub fn e_star(&self, dim: usize) -> f64 {
+        if let Some(e) = self.contact_e_star {
+            return e;
+        }
         let m = self.stiffest(dim);
         if dim == 2 && self.plane_stress {
             m.young

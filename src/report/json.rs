@@ -82,6 +82,9 @@ pub struct Report {
     pub pressure_error_rel: Option<f64>,
     pub peak_pressure_hertz: Option<f64>,
     pub contact_half_width_hertz: Option<f64>,
+    /// Hertz's E* and R (with `-reference hertz`).
+    pub hertz_e_star: Option<f64>,
+    pub hertz_radius: Option<f64>,
     pub peak_pressure: f64,
     /// The contact half-width in 2D, its radius in 3D (with `-reference hertz`).
     pub contact_half_width: Option<f64>,
@@ -205,6 +208,8 @@ impl Report {
             pressure_error_rel: m.hertz.as_ref().map(|h| h.error_rel),
             peak_pressure_hertz: m.hertz.as_ref().map(|h| h.peak_hertz),
             contact_half_width_hertz: m.hertz.as_ref().map(|h| h.half_width_hertz),
+            hertz_e_star: m.hertz.as_ref().map(|h| h.e_star),
+            hertz_radius: m.hertz.as_ref().map(|h| h.radius),
             peak_pressure: m.totals.peak_pressure,
             contact_half_width: m.hertz.as_ref().map(|h| h.half_width),
             equilibrium_residual: d.equilibrium_abs,

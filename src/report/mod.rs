@@ -298,6 +298,10 @@ pub struct HertzComparison {
     pub force: f64,
     pub reference_force: f64,
     pub part: f64,
+    /// Hertz's E* and R ([`crate::options::Settings::e_star`], the
+    /// curvatures of `-reference_radius` added).
+    pub e_star: f64,
+    pub radius: f64,
 }
 
 impl HertzComparison {
@@ -373,6 +377,8 @@ pub fn compare_hertz(
     let mut out = HertzComparison {
         spacing: f64::INFINITY,
         reference_force: reference.force,
+        e_star,
+        radius: reference.radius,
         ..HertzComparison::default()
     };
     for r in rows {

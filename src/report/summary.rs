@@ -78,6 +78,11 @@ pub fn print(m: &Results) {
             significant(h.half_width, 5),
             significant(h.half_width_hertz, 5)
         );
+        println!(
+            "                  Hertz's E* {}, R {}",
+            significant(h.e_star, 5),
+            significant(h.radius, 5)
+        );
     }
     let t = &m.times;
     println!(

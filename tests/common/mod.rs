@@ -558,6 +558,8 @@ pub struct Report {
     pub peak_pressure_hertz: f64,
     #[serde(deserialize_with = "number")]
     pub contact_half_width_hertz: f64,
+    #[serde(default, deserialize_with = "number")]
+    pub hertz_e_star: f64,
     #[serde(deserialize_with = "number")]
     pub contact_half_width: f64,
     #[serde(deserialize_with = "number")]
