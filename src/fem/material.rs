@@ -264,8 +264,9 @@ fn side_moduli(mesh: &LocalMesh, settings: &Settings, sides: &[Vec<&str>]) -> Ve
 /// E* of Hertz's formulas for the scene's contact (`-reference hertz`,
 /// `-tresca_bound hertz`; Johnson, Contact Mechanics, 4.2-4.3): on a rigid
 /// obstacle E/(1 - nu^2) (E in plane stress, 2D) of the cells under the
-/// contact surface; for two elastic bodies (`-contact_pair`) 1/E* = 1/E*_1
-/// + 1/E*_2, each body's from the cells under its surface of the pair. A
+/// contact surface; for two elastic bodies (`-contact_pair`)
+/// `1/E* = 1/E*_1 + 1/E*_2`, each body's from the cells under its surface
+/// of the pair. A
 /// surface on cells of several materials takes the stiffest; of several
 /// contacts (pairs, a pair and an obstacle), the largest E*. None where the
 /// mesh holds none of the surfaces' facets. Collective.
