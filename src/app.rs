@@ -187,6 +187,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
     fn run(&mut self, unused: &mut Unused) -> Result<(), Error> {
         let mut local = self.make_and_distribute_mesh()?;
         crate::fem::material::resolve(&mut local, &self.settings)?;
+        self.settings.check_reference(local.dim)?;
         if self.settings.reference.is_some() {
             let e_star = crate::fem::material::contact_e_star(self.world, &local, &self.settings);
             self.settings.contact_e_star = e_star;
@@ -781,7 +782,7 @@ impl<'w, C: Communicator> ContactProblem<'w, C> {
             let said = hertz.as_ref().filter(|_| failure.is_none());
             for w in said
                 .into_iter()
-                .flat_map(|h| [h.resolution_warning(), h.force_warning()])
+                .flat_map(|h| [h.resolution_warning(), h.force_warning(), h.shape_warning()])
                 .flatten()
             {
                 self.warn(w);

@@ -17,6 +17,7 @@ mod numbers;
 pub mod obstacles;
 pub mod outputs;
 mod pairs;
+mod reference;
 pub mod solver;
 pub mod unused;
 
@@ -135,6 +136,9 @@ pub struct HertzReference {
     pub force: f64,
     pub radius: f64,
     pub center: Option<Vec<f64>>,
+    /// `-reference_axis` (3D, unit): a cylinder lying along it, a line
+    /// contact (Hertz's 2D formula, the force per unit length).
+    pub axis: Option<Vec<f64>>,
 }
 
 /// One prescribed displacement: component `comp` of the nodes of group `group`.
@@ -643,34 +647,6 @@ fn ubr_settings() -> Result<UbrSettings, Error> {
     })
 }
 
-fn reference() -> Result<Option<HertzReference>, Error> {
-    if REFERENCE.word_or_required()?.is_none() {
-        return Ok(None);
-    }
-    let Some(force) = REFERENCE_FORCE.real()? else {
-        return bad("option -reference_force is required with -reference hertz");
-    };
-    let Some(radii) = REFERENCE_RADIUS.vector()? else {
-        return bad("option -reference_radius is required with -reference hertz");
-    };
-    if radii.len() > 2 {
-        return bad(format!(
-            "option -reference_radius: {} values given; it takes R (a body on a rigid plane, or the two bodies' effective radius) or R1,R2 (two bodies: 1/R = 1/R1 + 1/R2)",
-            radii.len()
-        ));
-    }
-    if force <= 0.0 || radii.iter().any(|&r| r <= 0.0) {
-        return bad("options -reference_force and -reference_radius must be positive");
-    }
-    // Two bodies' curvatures add (Johnson, Contact Mechanics, 4.2).
-    let radius = 1.0 / radii.iter().map(|r| 1.0 / r).sum::<f64>();
-    Ok(Some(HertzReference {
-        force,
-        radius,
-        center: REFERENCE_CENTER.vector()?,
-    }))
-}
-
 fn friction() -> Result<(Friction, f64, Option<TrescaBound>), Error> {
     let friction = match FRICTION.get()? {
         "tresca" => Friction::Tresca,
@@ -786,7 +762,7 @@ impl Settings {
         let (friction, friction_coefficient, tresca_bound) = friction()?;
         let algorithm = Algorithm::parse(ALGORITHM.get()?).expect("a declared choice");
         let ubr = ubr_settings()?;
-        let reference = reference()?;
+        let reference = reference::reference()?;
         let contact_center = REFERENCE_CENTER.vector()?;
         let ranks = mpi::topology::SimpleCommunicator::world().size() as usize;
         let out = outputs::Outputs::read(&mesh, files::read(), ranks)?;

@@ -5,6 +5,51 @@
 
 use std::f64::consts::PI;
 
+use crate::options::HertzReference;
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+impl HertzReference {
+    /// The dimension of Hertz's formula: 2 for a cylinder (in 2D, or in 3D
+    /// lying along `-reference_axis`: a line contact), 3 for a sphere.
+    pub fn formula_dim(&self, dim: usize) -> usize {
+        if self.axis.is_some() {
+            2
+        } else {
+            dim
+        }
+    }
+
+    /// Hertz's pressure, peak and half-width ([`pressure`]) at distance
+    /// `x` from the contact centre or line.
+    pub fn pressure(&self, dim: usize, e_star: f64, x: f64) -> (f64, f64, f64) {
+        pressure(self.formula_dim(dim), self.force, self.radius, e_star, x)
+    }
+
+    /// The cylinder's axis across `n` (unit): the contact line's
+    /// direction; None for a sphere, or where the axis lies within 25
+    /// degrees of `n` (no line across it: the set-up refuses that where
+    /// `-contact_direction` is given).
+    pub fn line(&self, n: &[f64]) -> Option<Vec<f64>> {
+        let a = self.axis.as_ref().filter(|a| a.len() == n.len())?;
+        let an = dot(a, n);
+        let across: Vec<f64> = a.iter().zip(n).map(|(x, y)| x - an * y).collect();
+        let norm = dot(&across, &across).sqrt();
+        (norm > 0.42).then(|| across.iter().map(|v| v / norm).collect())
+    }
+
+    /// The distance of `x` orthogonal to `n` from the contact centre (a
+    /// sphere), or from the contact line through it (a cylinder along
+    /// the axis).
+    pub fn distance(&self, x: &[f64], center: &[f64], n: &[f64]) -> f64 {
+        let t = tangential_offset(x, center, n);
+        let along = self.line(n).map_or(0.0, |a| dot(&t, &a));
+        (dot(&t, &t) - along * along).max(0.0).sqrt()
+    }
+}
+
 /// Hertz pressure at distance `x` from the centre, with the peak pressure
 /// p0 and the half-width (b in 2D, a in 3D): a cylinder on a plane in 2D (F
 /// per unit thickness), a sphere in 3D; `e_star` = E / (1 - nu^2).
@@ -80,10 +125,18 @@ pub fn coordinate_2d(x: &[f64], center: &[f64], n: &[f64]) -> f64 {
 /// tangential offsets from the centre of the candidates in contact) lies on
 /// one side of the centre, spreading to the other. The axes: in 2D the
 /// tangent (any symmetry line of the contact contains n), in 3D the
-/// coordinate axes across n.
-pub fn symmetric_part(offsets: &[Vec<f64>], n: &[f64]) -> f64 {
+/// coordinate axes across n, or across a contact `line` (3D, unit, across
+/// n) the direction n x line alone (a cut across the line leaves the load
+/// per unit length).
+pub fn symmetric_part(offsets: &[Vec<f64>], n: &[f64], line: Option<&[f64]>) -> f64 {
     let axes: Vec<Vec<f64>> = if n.len() == 2 {
         vec![vec![-n[1], n[0]]]
+    } else if let Some(l) = line {
+        vec![vec![
+            n[1] * l[2] - n[2] * l[1],
+            n[2] * l[0] - n[0] * l[2],
+            n[0] * l[1] - n[1] * l[0],
+        ]]
     } else {
         (0..n.len())
             .filter(|&k| n[k].abs() < 0.99)
@@ -116,17 +169,17 @@ mod tests {
         let n2 = [0.0, -1.0];
         let one_side = [vec![0.0, 0.0], vec![0.1, 0.0], vec![0.2, 0.0]];
         let both = [vec![-0.1, 0.0], vec![0.0, 0.0], vec![0.2, 0.0]];
-        assert_eq!(symmetric_part(&one_side, &n2), 0.5);
-        assert_eq!(symmetric_part(&both, &n2), 1.0);
+        assert_eq!(symmetric_part(&one_side, &n2, None), 0.5);
+        assert_eq!(symmetric_part(&both, &n2, None), 1.0);
         // One node at the centre: nothing to tell.
-        assert_eq!(symmetric_part(&[vec![0.0, 0.0]], &n2), 1.0);
+        assert_eq!(symmetric_part(&[vec![0.0, 0.0]], &n2, None), 1.0);
         // A half model whose symmetry line is not a coordinate axis.
         let (c, sn) = (0.6f64, 0.8f64);
         let tilted: Vec<Vec<f64>> = [0.0, 0.1, 0.2]
             .iter()
             .map(|&a| vec![a * c, a * sn])
             .collect();
-        assert_eq!(symmetric_part(&tilted, &[sn, -c]), 0.5);
+        assert_eq!(symmetric_part(&tilted, &[sn, -c], None), 0.5);
         let n3 = [0.0, 0.0, -1.0];
         let quarter = [
             vec![0.0, 0.0, 0.0],
@@ -139,8 +192,37 @@ mod tests {
             vec![0.1, 0.0, 0.0],
             vec![0.0, 0.1, 0.0],
         ];
-        assert_eq!(symmetric_part(&quarter, &n3), 0.25);
-        assert_eq!(symmetric_part(&half, &n3), 0.5);
+        assert_eq!(symmetric_part(&quarter, &n3, None), 0.25);
+        assert_eq!(symmetric_part(&half, &n3, None), 0.5);
+        // A line contact along y cut at its end (a quarter model): the cut
+        // across the line leaves the load per unit length whole.
+        let y = [0.0, 1.0, 0.0];
+        assert_eq!(symmetric_part(&quarter, &n3, Some(&y)), 0.5);
+        let across_both = [vec![-0.1, 0.0, 0.0], vec![0.1, 0.3, 0.0]];
+        assert_eq!(symmetric_part(&across_both, &n3, Some(&y)), 1.0);
+    }
+
+    #[test]
+    fn line_contact_distances() {
+        let reference = |axis: Option<Vec<f64>>| HertzReference {
+            force: 1.0,
+            radius: 1.0,
+            center: None,
+            axis,
+        };
+        let n = [0.0, 0.0, -1.0];
+        let line = reference(Some(vec![0.0, 1.0, 0.0]));
+        // From the line along y through the centre: only x counts.
+        let x = [3.0, 40.0, 7.0];
+        assert!((line.distance(&x, &[0.0, 0.0, 0.0], &n) - 3.0).abs() < 1e-15);
+        assert!((reference(None).distance(&x, &[0.0; 3], &n) - 3.0f64.hypot(40.0)).abs() < 1e-12);
+        // An axis given tilted out of the tangent plane: its part across n.
+        let tilted = reference(Some(vec![0.0, 1.0, 1.0]));
+        assert!((tilted.distance(&x, &[0.0; 3], &n) - 3.0).abs() < 1e-12);
+        // Along n: no line.
+        assert!(reference(Some(vec![0.0, 0.0, 1.0])).line(&n).is_none());
+        assert_eq!(line.formula_dim(3), 2);
+        assert_eq!(reference(None).formula_dim(3), 3);
     }
 
     #[test]

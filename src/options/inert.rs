@@ -212,7 +212,11 @@ fn scene_rules(r: &mut Rules, s: &Settings) {
     // The Hertz reference and the contact centre.
     if s.reference.is_none() {
         r.rule(
-            &[REFERENCE_FORCE.name, REFERENCE_RADIUS.name],
+            &[
+                REFERENCE_FORCE.name,
+                REFERENCE_RADIUS.name,
+                REFERENCE_AXIS.name,
+            ],
             "it describes the Hertz reference, and -reference hertz is not given",
         );
         if s.plot_contact.is_none() {

@@ -171,7 +171,7 @@ fn hertz_curve(
     (0..=400)
         .map(|k| {
             let xi = lo + (hi - lo) * k as f64 / 400.0;
-            let p = hertz::pressure(d, r.force, r.radius, s.e_star(d), xi.abs()).0;
+            let p = r.pressure(d, s.e_star(d), xi.abs()).0;
             (xi, p)
         })
         .unzip()
@@ -192,12 +192,10 @@ fn plot_contact(path: &str, m: &Results) -> Result<(), Error> {
         .as_deref()
         .or(s.reference.as_ref().and_then(|r| r.center.as_deref()));
     let center = plot_center(given, rows, d);
-    let coordinate = |r: &ContactRow| {
-        if d == 2 {
-            hertz::coordinate_2d(&r.x, &center, n)
-        } else {
-            hertz::distance(&r.x, &center, n)
-        }
+    let coordinate = |r: &ContactRow| match (d, &s.reference) {
+        (2, _) => hertz::coordinate_2d(&r.x, &center, n),
+        (_, Some(h)) => h.distance(&r.x, &center, n),
+        _ => hertz::distance(&r.x, &center, n),
     };
     let mut order: Vec<usize> = (0..rows.len()).collect();
     order.sort_by(|&a, &b| coordinate(&rows[a]).total_cmp(&coordinate(&rows[b])));

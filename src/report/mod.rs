@@ -302,6 +302,14 @@ pub struct HertzComparison {
     /// curvatures of `-reference_radius` added).
     pub e_star: f64,
     pub radius: f64,
+    /// Hertz's cylinder formula (2D, or 3D along `-reference_axis`): the
+    /// zone has a half-width, `force` is per unit length over `length`
+    /// (the candidates' extent along the line, 3D).
+    pub line: bool,
+    pub length: f64,
+    /// 3D with the sphere's formula: the zone's extents along and across
+    /// its longest direction, and that direction ([`elongation`]).
+    pub elongation: Option<(f64, f64, Vec<f64>)>,
 }
 
 impl HertzComparison {
@@ -350,11 +358,36 @@ impl HertzComparison {
         } else {
             format!("{part} of the contact (its contact zone lies on one side of the centre along two axes: a model cut by two symmetry planes)")
         };
+        let force = if self.length > 0.0 {
+            format!(
+                "contact force per unit length is {f:.4e} ({:.4e} over its length {:.4e} along -reference_axis)",
+                f * self.length,
+                self.length
+            )
+        } else {
+            format!("contact force is {f:.4e}")
+        };
         Some(format!(
-            "-reference_force {}: the model's contact force is {f:.4e}, and the model carries {cut}, so the whole contact's load is {:.4e}, not {}; the Hertz comparison uses a load the model does not carry",
+            "-reference_force {}: the model's {force}, and the model carries {cut}, so the whole contact's load is {:.4e}, not {}; the Hertz comparison uses a load the model does not carry",
             crate::options::shown(r),
             f / part,
             crate::options::shown(r),
+        ))
+    }
+
+    /// 3D with the sphere's formula: a contact zone over three times as
+    /// long as it is wide (a sphere's is a disc, a half or a quarter of
+    /// one in a model cut by symmetry planes: at most twice), a line
+    /// contact (a cylinder on its side) that the sphere's formula does not
+    /// describe: the warning that names `-reference_axis`.
+    pub fn shape_warning(&self) -> Option<String> {
+        let (long, across, dir) = self.elongation.as_ref()?;
+        if *long <= 3.0 * across {
+            return None;
+        }
+        Some(format!(
+            "-reference hertz: the contact zone is {long:.4e} long (along ({:.3}, {:.3}, {:.3})) and {across:.4e} across, a line contact, where Hertz's formula in 3D is a sphere's (a circle of radius {:.4e} here); for a cylinder on its side give its axis, -reference_axis x,y,z (Hertz's line contact, -reference_force per unit length of the whole cylinder)",
+            dir[0], dir[1], dir[2], self.half_width_hertz
         ))
     }
 }
@@ -372,6 +405,7 @@ pub fn compare_hertz(
         dim,
         rows.iter().map(|r| (r.gap, &r.x[..])),
     );
+    let line = reference.line(n);
     let mut err2 = 0.0;
     let mut p2 = 0.0;
     let mut out = HertzComparison {
@@ -379,11 +413,12 @@ pub fn compare_hertz(
         reference_force: reference.force,
         e_star,
         radius: reference.radius,
+        line: reference.formula_dim(dim) == 2,
         ..HertzComparison::default()
     };
     for r in rows {
-        let x = hertz::distance(&r.x, &center, n);
-        let (p, p0, b) = hertz::pressure(dim, reference.force, reference.radius, e_star, x);
+        let x = reference.distance(&r.x, &center, n);
+        let (p, p0, b) = reference.pressure(dim, e_star, x);
         if x < b {
             out.zone_candidates += 1;
         }
@@ -408,10 +443,60 @@ pub fn compare_hertz(
         .filter(|r| r.status != 0)
         .map(|r| hertz::tangential_offset(&r.x, &center, n))
         .collect();
-    out.part = hertz::symmetric_part(&offsets, n);
+    out.part = hertz::symmetric_part(&offsets, n, line.as_deref());
+    if let Some(l) = &line {
+        // The force per unit length: over the candidates' length along
+        // the line (the cylinder's, in the model).
+        let along = rows
+            .iter()
+            .map(|r| r.x.iter().zip(l).map(|(a, b)| a * b).sum::<f64>());
+        let (lo, hi) = along.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+        out.length = hi - lo;
+        if out.length > 0.0 {
+            out.force /= out.length;
+        }
+    } else if dim == 3 {
+        out.elongation = elongation(&offsets);
+    }
     out.error_l2 = err2.sqrt();
     out.error_rel = if p2 > 0.0 { (err2 / p2).sqrt() } else { 0.0 };
     out
+}
+
+/// Of a contact zone in 3D (`offsets`: the tangential offsets of the
+/// candidates in contact), its extents along and across its longest
+/// principal direction, and that direction.
+fn elongation(offsets: &[Vec<f64>]) -> Option<(f64, f64, Vec<f64>)> {
+    if offsets.len() < 6 {
+        return None;
+    }
+    let k = offsets.len() as f64;
+    let mean: Vec<f64> = (0..3)
+        .map(|c| offsets.iter().map(|o| o[c]).sum::<f64>() / k)
+        .collect();
+    let cov = nalgebra::Matrix3::from_fn(|i, j| {
+        offsets
+            .iter()
+            .map(|o| (o[i] - mean[i]) * (o[j] - mean[j]))
+            .sum::<f64>()
+    });
+    let eig = cov.symmetric_eigen();
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| eig.eigenvalues[b].total_cmp(&eig.eigenvalues[a]));
+    let extent = |c: usize| {
+        let v = eig.eigenvectors.column(c);
+        let along = offsets
+            .iter()
+            .map(|o| o[0] * v[0] + o[1] * v[1] + o[2] * v[2]);
+        let (lo, hi) = along.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+            (lo.min(x), hi.max(x))
+        });
+        hi - lo
+    };
+    let v = eig.eigenvectors.column(order[0]);
+    Some((extent(order[0]), extent(order[1]), vec![v[0], v[1], v[2]]))
 }
 
 /// Writes `bytes` to `path` atomically: a temporary file in the same

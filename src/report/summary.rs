@@ -70,11 +70,7 @@ pub fn print(m: &Results) {
             "                  peak pressure {} vs Hertz p0 {}; contact {} {} vs Hertz {}",
             significant(h.peak, 5),
             significant(h.peak_hertz, 5),
-            if m.local.dim == 3 {
-                "radius"
-            } else {
-                "half-width"
-            },
+            if h.line { "half-width" } else { "radius" },
             significant(h.half_width, 5),
             significant(h.half_width_hertz, 5)
         );

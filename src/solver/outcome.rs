@@ -178,8 +178,8 @@ pub fn hertz_bound<C: Communicator>(
     );
     (0..cs.len())
         .map(|i| {
-            let dist = hertz::distance(local.x(cs.node[i]), &center, &cs.direction);
-            nu_f * hertz::pressure(d, reference.force, reference.radius, e_star, dist).0
+            let dist = reference.distance(local.x(cs.node[i]), &center, &cs.direction);
+            nu_f * reference.pressure(d, e_star, dist).0
         })
         .collect()
 }
