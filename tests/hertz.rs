@@ -497,3 +497,96 @@ fn a_roller_on_its_side_is_a_line_contact() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A whole disc (radius 0.9, tests/normals/disc_in_socket2d.geo at h
+/// 0.02) under its weight, its whole rim the contact surface: on the plane
+/// below it, and in a socket of radius 0.999 (`-obstacle ball` around it,
+/// `-reference_radius 0.9,-0.999`: a concave surface's radius negative, R
+/// = 9.08). The comparison projected every candidate on the tangent plane,
+/// so the top of the disc fell in Hertz's zone: "relative 70.839%" on a
+/// disc whose pressure is within 6% of Hertz (measured 6.02%, peak 6132
+/// against 5799). In the socket (a conforming contact, b = 0.30 on a disc
+/// of radius 0.9, where Hertz is an approximation): 15.8%.
+#[test]
+fn a_whole_disc_on_a_plane_and_in_a_socket() {
+    let dir = scratch("hertz-disc");
+    let msh = dir.join("disc.msh");
+    gmsh(
+        "-2",
+        "tests/normals/disc_in_socket2d.geo",
+        &msh,
+        &[("h", "0.02")],
+    );
+    let msh = msh.to_str().unwrap();
+    let args = |extra: &[&'static str]| {
+        let mut a = vec![
+            "-mesh",
+            msh,
+            "-E",
+            "1e5",
+            "-nu",
+            "0.3",
+            "-gravity",
+            "0,-10",
+            "-density",
+            "34",
+            "-contact_surface",
+            "rim",
+            "-friction",
+            "coulomb",
+            "-friction_coefficient",
+            "0.3",
+            "-reference",
+            "hertz",
+            "-reference_force",
+            "865.2",
+        ];
+        a.extend_from_slice(extra);
+        a
+    };
+    let plane = [
+        "-obstacle",
+        "plane",
+        "-obstacle_point",
+        "0,-0.999",
+        "-contact_direction",
+        "0,-1",
+        "-reference_radius",
+        "0.9",
+    ];
+    let out = run_outputs("disc-plane", 2, &args(&plane), None);
+    assert_eq!(out.status, Some(0), "{}", out.context());
+    let report = out.report();
+    assert!(report.pressure_error_rel < 0.1, "{}", out.context());
+    let socket = [
+        "-obstacle",
+        "ball",
+        "-obstacle_center",
+        "0,0",
+        "-obstacle_radius",
+        "0.999",
+        "-reference_radius",
+        "0.9,-0.999",
+    ];
+    let out = run_outputs("disc-socket", 2, &args(&socket), None);
+    assert_eq!(out.status, Some(0), "{}", out.context());
+    let report = out.report();
+    let r = 1.0 / (1.0 / 0.9 - 1.0 / 0.999);
+    assert!(
+        (report.hertz_radius - r).abs() < 1e-9 * r && report.pressure_error_rel < 0.2,
+        "{}",
+        out.context()
+    );
+    for radius in ["-0.9", "0.9,-0.8", "0.9,0"] {
+        let mut bad = args(&plane[..6]);
+        bad.extend(["-reference_radius", radius]);
+        let run = mpirun(1, &bad);
+        assert_eq!(run.status, Some(2), "{radius}: {}", run.context());
+        assert!(
+            run.stderr.contains("option -reference_radius"),
+            "{radius}: {}",
+            run.context()
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -40,6 +40,32 @@ impl HertzReference {
         (norm > 0.42).then(|| across.iter().map(|v| v / norm).collect())
     }
 
+    /// Hertz's pressure at point `x` and its distance from the contact
+    /// centre or line ([`HertzReference::distance`]), with the peak and
+    /// the half-width: zero off the contact's side of the body, where `x`
+    /// lies farther from the tangent plane at the centre than the
+    /// half-width (the top of a whole disc or ball, whose projection falls
+    /// in the zone; in the zone a surface of radius R departs from the
+    /// plane by x^2 / 2R, far less).
+    pub fn pressure_at(
+        &self,
+        dim: usize,
+        e_star: f64,
+        x: &[f64],
+        center: &[f64],
+        n: &[f64],
+    ) -> (f64, f64, f64, f64) {
+        let dist = self.distance(x, center, n);
+        let (p, p0, b) = self.pressure(dim, e_star, dist);
+        let off: f64 = n
+            .iter()
+            .enumerate()
+            .map(|(k, nk)| (x[k] - center[k]) * nk)
+            .sum();
+        let p = if off.abs() > b { 0.0 } else { p };
+        (p, p0, b, dist)
+    }
+
     /// The distance of `x` orthogonal to `n` from the contact centre (a
     /// sphere), or from the contact line through it (a cylinder along
     /// the axis).

@@ -309,7 +309,7 @@ opt!(SSN_MAX_IT: usize = "-ssn_max_it" "N", 100, "maximum SSN-C iterations");
 // Reference
 opt!(REFERENCE: Choice = "-reference" "hertz", Choice { default: "none", values: &["hertz"] }, "compare the contact pressure with the analytic Hertz pressure");
 opt!(REFERENCE_FORCE: Given = "-reference_force" "F", Given("required with -reference"), "Hertz load: per unit thickness of the whole cylinder (2D), on the whole sphere (3D)");
-opt!(REFERENCE_RADIUS: Given = "-reference_radius" "R|R1,R2", Given("required with -reference"), "radius of the Hertz cylinder or sphere on a rigid plane; two bodies (-contact_pair): their radii R1,R2 (1/R = 1/R1 + 1/R2), or that R");
+opt!(REFERENCE_RADIUS: Given = "-reference_radius" "R|R1,R2", Given("required with -reference"), "radius of the Hertz cylinder or sphere on a plane; two curved surfaces (two bodies, or a body on a curved obstacle): their radii R1,R2 (1/R = 1/R1 + 1/R2, a concave one negative: a pin in a hole), or that R");
 opt!(REFERENCE_AXIS: Given = "-reference_axis" "x,y,z", Given("none: a sphere in 3D"), "3D: the axis of a cylinder lying on its side (a line contact): Hertz's cylinder formula, -reference_force per unit length of the whole cylinder, distances from the contact line");
 opt!(REFERENCE_CENTER: Given = "-reference_center" "x,y[,z]", Given("candidate with the smallest gap"), "centre of the contact, for the Hertz comparison and -plot_contact (with or without -reference)");
 // Output

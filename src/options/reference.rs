@@ -18,15 +18,27 @@ pub(super) fn reference() -> Result<Option<HertzReference>, Error> {
     };
     if radii.len() > 2 {
         return bad(format!(
-            "option -reference_radius: {} values given; it takes R (a body on a rigid plane, or the two bodies' effective radius) or R1,R2 (two bodies: 1/R = 1/R1 + 1/R2)",
+            "option -reference_radius: {} values given; it takes R (a body on a plane, or the two surfaces' effective radius) or R1,R2 (two curved surfaces: 1/R = 1/R1 + 1/R2, a concave one negative)",
             radii.len()
         ));
     }
-    if force <= 0.0 || radii.iter().any(|&r| r <= 0.0) {
-        return bad("options -reference_force and -reference_radius must be positive");
+    if force <= 0.0 {
+        return bad("option -reference_force must be positive");
     }
-    // Two bodies' curvatures add (Johnson, Contact Mechanics, 4.2).
-    let radius = 1.0 / radii.iter().map(|r| 1.0 / r).sum::<f64>();
+    // Two surfaces' curvatures add, a concave one's negative (Johnson,
+    // Contact Mechanics, 4.2: a pin in a hole, a ball in a socket).
+    let curvature: f64 = radii.iter().map(|r| 1.0 / r).sum();
+    if radii.len() == 1 && radii[0] <= 0.0 {
+        return bad("option -reference_radius must be positive (two values R1,R2 for a convex and a concave surface, the concave one negative)");
+    }
+    if radii.iter().any(|&r| r == 0.0 || !r.is_finite()) || curvature <= 0.0 {
+        return bad(format!(
+            "option -reference_radius {}: the surfaces do not curve toward each other (1/R1 + 1/R2 = {} is not positive); a concave surface's radius is negative and must be larger in size than the convex one's",
+            radii.iter().map(|&r| shown(r)).collect::<Vec<_>>().join(","),
+            shown(curvature)
+        ));
+    }
+    let radius = 1.0 / curvature;
     let axis = match REFERENCE_AXIS.vector()? {
         None => None,
         Some(a) if a.len() != 3 => {

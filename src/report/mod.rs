@@ -417,9 +417,8 @@ pub fn compare_hertz(
         ..HertzComparison::default()
     };
     for r in rows {
-        let x = reference.distance(&r.x, &center, n);
-        let (p, p0, b) = reference.pressure(dim, e_star, x);
-        if x < b {
+        let (p, p0, b, x) = reference.pressure_at(dim, e_star, &r.x, &center, n);
+        if p > 0.0 {
             out.zone_candidates += 1;
         }
         if x > 0.0 {

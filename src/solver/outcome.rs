@@ -178,8 +178,10 @@ pub fn hertz_bound<C: Communicator>(
     );
     (0..cs.len())
         .map(|i| {
-            let dist = reference.distance(local.x(cs.node[i]), &center, &cs.direction);
-            nu_f * reference.pressure(d, e_star, dist).0
+            let x = local.x(cs.node[i]);
+            nu_f * reference
+                .pressure_at(d, e_star, x, &center, &cs.direction)
+                .0
         })
         .collect()
 }

@@ -560,6 +560,8 @@ pub struct Report {
     pub contact_half_width_hertz: f64,
     #[serde(default, deserialize_with = "number")]
     pub hertz_e_star: f64,
+    #[serde(default, deserialize_with = "number")]
+    pub hertz_radius: f64,
     #[serde(deserialize_with = "number")]
     pub contact_half_width: f64,
     #[serde(deserialize_with = "number")]
