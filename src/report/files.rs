@@ -177,6 +177,34 @@ fn hertz_curve(
         .unzip()
 }
 
+/// The candidates of the contact's side of the body: those no farther from
+/// the tangent plane at `center` (along `n`) than the zone of the nodes in
+/// contact spreads along it and across it. The far side of a whole disc
+/// or ball has the near side's coordinates: its open candidates fell among
+/// those in contact, and the 2D bound's line zigzagged to them.
+fn near_side(
+    rows: &[ContactRow],
+    center: &[f64],
+    n: &[f64],
+    coordinate: impl Fn(&ContactRow) -> f64,
+) -> Vec<usize> {
+    let off = |r: &ContactRow| -> f64 {
+        n.iter()
+            .enumerate()
+            .map(|(k, nk)| (r.x[k] - center[k]) * nk)
+            .sum::<f64>()
+            .abs()
+    };
+    let touching = rows.iter().filter(|r| r.status != 0);
+    let (along, across) = touching.fold((0.0f64, 0.0f64), |(a, c), r| {
+        (a.max(coordinate(r).abs()), c.max(off(r)))
+    });
+    let reach = along + across;
+    (0..rows.len())
+        .filter(|&i| reach == 0.0 || off(&rows[i]) <= reach)
+        .collect()
+}
+
 /// `-plot_contact`: pressure, and with friction |lambda_t| and the bound s,
 /// along the surface (2D: a signed coordinate from the contact centre, so
 /// that both sides of an asymmetric contact show; 3D: the distance from
@@ -197,7 +225,7 @@ fn plot_contact(path: &str, m: &Results) -> Result<(), Error> {
         (_, Some(h)) => h.distance(&r.x, &center, n),
         _ => hertz::distance(&r.x, &center, n),
     };
-    let mut order: Vec<usize> = (0..rows.len()).collect();
+    let mut order = near_side(rows, &center, n, coordinate);
     order.sort_by(|&a, &b| coordinate(&rows[a]).total_cmp(&coordinate(&rows[b])));
     let x: Vec<f64> = order.iter().map(|&i| coordinate(&rows[i])).collect();
     let p: Vec<f64> = order.iter().map(|&i| rows[i].lambda_n).collect();
@@ -609,5 +637,38 @@ mod tests {
         let flat = [row(0.0, 0.0, 1.0), row(1.0, 0.0, 1.0), row(2.0, 0.0, 2.0)];
         let c = plot_center(None, &flat, 2);
         assert!((c[0] - 1.25).abs() < 1e-15 && c[1] == 0.0, "{c:?}");
+    }
+
+    #[test]
+    fn the_far_side_of_a_disc_is_not_plotted() {
+        // A disc of radius 1 on the plane y = 0 (n = (0,-1)), 36 candidates
+        // round its rim, the 3 lowest in contact.
+        let rows: Vec<ContactRow> = (0..36)
+            .map(|k| {
+                let a = -std::f64::consts::FRAC_PI_2 + k as f64 * std::f64::consts::PI / 18.0;
+                let x = [a.cos(), 1.0 + a.sin(), 0.0];
+                let touching = !(2..=34).contains(&k);
+                ContactRow {
+                    x,
+                    status: u8::from(touching),
+                    ..Default::default()
+                }
+            })
+            .collect();
+        let (c, n) = ([0.0, 0.0], [0.0, -1.0]);
+        let near = near_side(&rows, &c, &n, |r| hertz::coordinate_2d(&r.x, &c, &n));
+        // Kept: the zone and its neighbours up to 0.17 + 0.015 above the
+        // plane; the top of the disc, which projects into the zone, is not.
+        assert!(near.iter().all(|&i| rows[i].x[1] < 0.2), "{near:?}");
+        assert!(near.contains(&0) && near.contains(&2) && near.contains(&34));
+        // Nothing in contact: everything.
+        let open: Vec<ContactRow> = rows
+            .iter()
+            .map(|r| ContactRow {
+                status: 0,
+                ..r.clone()
+            })
+            .collect();
+        assert_eq!(near_side(&open, &c, &n, |r| r.x[0]).len(), 36);
     }
 }
