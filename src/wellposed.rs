@@ -22,7 +22,7 @@ use crate::options::{Friction, Settings, TrescaBound};
 use crate::petsc::{self, sys, Gather, Vector};
 use mpi::traits::*;
 use nalgebra::{DMatrix, SymmetricEigen};
-use pairs::{joined, pair_bodies};
+use pairs::{joined, pair_bodies, self_contact_faces};
 
 mod loads;
 mod pairs;
@@ -318,7 +318,8 @@ pub fn check<C: Communicator>(
     pairs: &[(String, String)],
 ) -> Result<Restraint, Error> {
     let bodies = Bodies::find(world, mesh)?;
-    let sides = pair_bodies(world, mesh, &bodies, pairs)?;
+    let (sides, one_body) = pair_bodies(world, mesh, &bodies, pairs);
+    self_contact_faces(world, cs, pairs, &one_body)?;
     let d = mesh.dim;
     let k = modes(d);
     let nb = bodies.len();

@@ -324,7 +324,7 @@ fn bad_pairs_are_refused() {
         // The lower block's top and bottom: two faces of one body.
         (
             vec!["-contact_pair", "master,bottom"],
-            "'master' and 'bottom' are surfaces of one body",
+            "'master' and 'bottom' are surfaces of one body, and the master lies behind the slave, through the body",
         ),
         // One pair named twice: MUMPS' analysis aborted every rank
         // ("wrong principal var for Schur", MPI_ABORT).

@@ -300,7 +300,17 @@ impl ContactSet {
             self.node.iter().map(|&v| (v, None)).collect();
         let (mut slaves, mut masters) = (Vec::new(), Vec::new());
         for (p, (s, m)) in settings.pairs.iter().enumerate() {
-            let (rows, slave_nodes, master_nodes) = pair_rows(world, mesh, settings, s, m)?;
+            let (mut rows, mut slave_nodes, master_nodes) = pair_rows(world, mesh, settings, s, m)?;
+            // Where the two surfaces of one body meet (a crack's tip or
+            // front, a slot's end), a node on both is one material point:
+            // no candidate (its gap is zero and stays zero).
+            let on_master: std::collections::HashSet<usize> =
+                master_nodes.iter().copied().collect();
+            let shared = slave_nodes.iter().filter(|n| on_master.contains(n)).count();
+            if shared > 0 && shared < slave_nodes.len() {
+                rows.retain(|r| !on_master.contains(&r.node));
+                slave_nodes.retain(|n| !on_master.contains(n));
+            }
             // (Decided on every rank: the first such node's tag, and where.)
             let twice = rows
                 .iter()
@@ -348,11 +358,12 @@ impl ContactSet {
         self.uniform = false;
         let slave_of: std::collections::HashMap<usize, &String> = slaves.into_iter().collect();
         if let Some((n, m)) = masters.iter().find(|(n, _)| slave_of.contains_key(n)) {
+            // (The node's tag from the rank that holds it.)
             let v = mesh.node_global.iter().position(|g| g == n);
-            let tag = v.map_or(String::new(), |v| format!(" {}", mesh.node_tag[v]));
+            let tag = allreduce_max(world, v.map_or(-1.0, |v| mesh.node_tag[v] as f64));
             return bad(format!(
-                "option -contact_pair: node{tag} is on the slave surface '{}' and the master surface '{m}'; a node takes one side",
-                slave_of[n]
+                "option -contact_pair: node {} is on the slave surface '{}' and the master surface '{m}'; a node takes one side",
+                tag as u64, slave_of[n]
             ));
         }
         Ok(())

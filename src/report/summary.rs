@@ -437,6 +437,9 @@ fn forces(m: &Results) {
             .iter()
             .chain(&f.load)
             .chain(f.reactions.iter().flat_map(|(_, r)| r))
+            // (A pair's force: loads that balance on their own, a body
+            // pressed on itself, leave it the scale.)
+            .chain(f.obstacles.iter().flat_map(|(_, v, _)| v))
             .fold(0.0f64, |a, b| a.max(b.abs()));
         let imbalance = f.imbalance().iter().fold(0.0f64, |a, b| a.max(b.abs()));
         println!(

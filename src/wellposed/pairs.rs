@@ -82,6 +82,9 @@ pub(super) fn joined<C: Communicator>(
         }
         let candidates = g[p * per + 4 * k * k] as usize;
         let (s, ms) = (s as usize, ms as usize);
+        if s == ms {
+            continue; // (a body's contact with itself holds none of its motions)
+        }
         out.push(Joined {
             body: s,
             other: ms,
@@ -108,17 +111,14 @@ pub(super) fn joined<C: Communicator>(
 
 /// The bodies of each pair's two surfaces: the largest body of the slave's
 /// nodes, then of the master's (-1 for a group with no node), two values
-/// per pair. Refuses a pair whose two surfaces lie on one body (exit 2): a
-/// pair puts two bodies meshed apart in contact. (Two faces of one body
-/// pass the mortar's facing test, the master behind the slave through the
-/// body: its gap is minus the body's thickness, and the run pressed them
-/// through each other, every element inverted.) Collective.
+/// per pair, and whether the two surfaces lie on one body (a contact of
+/// the body with itself: [`self_contact_faces`]). Collective.
 pub(super) fn pair_bodies<C: Communicator>(
     world: &C,
     mesh: &LocalMesh,
     bodies: &Bodies,
     pairs: &[(String, String)],
-) -> Result<Vec<f64>, Error> {
+) -> (Vec<f64>, Vec<bool>) {
     // Per surface: the largest body of its nodes and minus the smallest
     // (-1 and -inf where this rank has none: neutral in the maximum).
     let none = [-1.0, f64::NEG_INFINITY];
@@ -135,13 +135,52 @@ pub(super) fn pair_bodies<C: Communicator>(
         .flat_map(|(s, m)| span(s).into_iter().chain(span(m)))
         .collect();
     let all = allreduce_max_vec(world, &local);
+    let one_body = (0..pairs.len())
+        .map(|p| {
+            let [shi, slo, mhi, mlo] = [0, 1, 2, 3].map(|i| all[4 * p + i]);
+            shi >= 0.0 && mhi >= 0.0 && shi == -slo && mhi == -mlo && shi == mhi
+        })
+        .collect();
+    (all.chunks(2).map(|c| c[0]).collect(), one_body)
+}
+
+/// A pair of two surfaces of one body models the body's contact with
+/// itself (a slot or a crack closing, a clip, a C-clamp): they must face
+/// each other across a gap. Two faces of one body also pass the mortar's
+/// facing test with the master behind the slave, through the body (a
+/// block's top and bottom): the gap is minus the body's thickness, and the
+/// run pressed them through each other, every element inverted. Refused
+/// (exit 2) where a slave node's gap is below minus half its facets' size
+/// (its nodal weight, in 3D its square root): more interference than a
+/// touching curved surface's mesh makes. Collective.
+pub(super) fn self_contact_faces<C: Communicator>(
+    world: &C,
+    cs: &ContactSet,
+    pairs: &[(String, String)],
+    one_body: &[bool],
+) -> Result<(), Error> {
+    if !one_body.contains(&true) {
+        return Ok(());
+    }
+    // Per pair: the largest -(g + h/2) and -g over its slave nodes.
+    let mut worst = vec![f64::NEG_INFINITY; 2 * pairs.len()];
+    for i in 0..cs.len() {
+        let p = cs.pair[i];
+        if p == usize::MAX || !one_body[p] || cs.mortar[i].is_empty() {
+            continue;
+        }
+        let h = cs.w[i].powf(1.0 / (cs.dim - 1) as f64);
+        worst[2 * p] = worst[2 * p].max(-(cs.g[i] + 0.5 * h));
+        worst[2 * p + 1] = worst[2 * p + 1].max(-cs.g[i]);
+    }
+    let worst = allreduce_max_vec(world, &worst);
     for (p, (s, m)) in pairs.iter().enumerate() {
-        let [shi, slo, mhi, mlo] = [0, 1, 2, 3].map(|i| all[4 * p + i]);
-        if shi >= 0.0 && mhi >= 0.0 && shi == -slo && mhi == -mlo && shi == mhi {
+        if one_body[p] && worst[2 * p] > 0.0 {
             return Err(Error::BadInput(format!(
-                "option -contact_pair: '{s}' and '{m}' are surfaces of one body (its cells join them); a pair puts two bodies meshed apart in contact (no shared nodes), and contact of a body with itself is not modelled"
+                "option -contact_pair: '{s}' and '{m}' are surfaces of one body, and the master lies behind the slave, through the body (a gap of {:.4e} at a slave node); a pair of one body's surfaces models its contact with itself, two faces across a slot, a crack or a gap",
+                -worst[2 * p + 1]
             )));
         }
     }
-    Ok(all.chunks(2).map(|c| c[0]).collect())
+    Ok(())
 }
