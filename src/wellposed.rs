@@ -466,9 +466,9 @@ fn free_message(
     let held_by_dirichlet_somewhere = gd.trace() > 0.0;
     let hint = if candidates == 0 {
         if held_by_dirichlet_somewhere {
-            "nothing holds it (its Dirichlet conditions do not, and it has no contact candidate); add a Dirichlet condition"
+            "nothing holds it (its Dirichlet conditions do not, and it has no contact candidate against an obstacle or another body); add a Dirichlet condition"
         } else {
-            "it has neither a Dirichlet condition nor a contact candidate; add a Dirichlet condition"
+            "it has neither a Dirichlet condition nor a contact candidate against an obstacle or another body; add a Dirichlet condition"
         }
     } else if friction {
         "neither its Dirichlet conditions nor the contact can hold it; add a Dirichlet condition"
