@@ -5,7 +5,9 @@
 //! Resolved on every rank from its local mesh once it is distributed: the
 //! groups and the table of sets of body groups are the whole mesh's on
 //! every rank, so every check here gives every rank the same answer (its
-//! errors are collective) without communication.
+//! errors are collective) without communication. The contact's Hertz E*,
+//! from the cells under its surfaces ([`contact_e_star`]), takes one
+//! all-reduce.
 
 use std::collections::HashMap;
 
