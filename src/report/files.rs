@@ -296,8 +296,11 @@ fn plot_contact(path: &str, m: &Results) -> Result<(), Error> {
             ""
         }
     );
+    let line = s.reference.as_ref().and_then(|h| h.line(n)).is_some();
     let axis = if d == 2 {
         "position along the surface from the contact centre (signed, orthogonal to n)"
+    } else if line {
+        "distance from the contact line (along -reference_axis), orthogonal to n"
     } else {
         "distance from the contact centre, orthogonal to n"
     };
