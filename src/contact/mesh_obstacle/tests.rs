@@ -630,7 +630,7 @@ fn curve_errors_name_the_element_or_node() {
         "{e}"
     );
     let e = err(&[0, 1, 2, 1, 2, 3, 3, 0]);
-    assert!(e.ends_with("element 1 and element 2 both end at node 2: inconsistent orientation (each segment must end where the next one starts)"), "{e}");
+    assert!(e.ends_with("element 1 and element 2 both end at node 2: inconsistent orientation (each segment must end where the next one starts; Gmsh writes a line's elements its own way, whatever sign a Curve Loop gives it: draw the lines head to tail, or turn one with Reverse Curve {n};)"), "{e}");
     let e = err(&[0, 1, 1, 2, 2, 0, 1, 3]);
     assert!(
         e.ends_with(

@@ -98,7 +98,9 @@ fn build_2d(s: &Surface, face_n: &[V3]) -> Result<Topology, Error> {
                 if start1 == start2 {
                     return s.error(format_args!(
                         "{} and {} both {} at {}: inconsistent orientation (each segment must \
-                         end where the next one starts)",
+                         end where the next one starts; Gmsh writes a line's elements its own \
+                         way, whatever sign a Curve Loop gives it: draw the lines head to tail, \
+                         or turn one with Reverse Curve {{n}};)",
                         s.elem_name(e1),
                         s.elem_name(e2),
                         if start1 { "start" } else { "end" },
@@ -178,7 +180,8 @@ fn build_3d(s: &Surface, face_n: &[V3]) -> Result<Topology, Error> {
                         return s.error(format_args!(
                             "{} and {} traverse their shared {} in the same direction: \
                              inconsistent orientation (the right-hand rule must give the \
-                             outward side of both)",
+                             outward side of both; in Gmsh, Reverse Surface {{n}}; turns a \
+                             surface's triangles)",
                             s.elem_name(e1),
                             s.elem_name(e2),
                             edge()
