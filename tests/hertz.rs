@@ -463,6 +463,28 @@ fn a_roller_on_its_side_is_a_line_contact() {
         "{}",
         twice.context()
     );
+    // A load history: each step's contact extent is the half-width from
+    // the contact line (it was the roller's length, 0.3), growing as
+    // sqrt(F): measured 0.0351, 0.0527, 0.0635, 0.0748 against Hertz's
+    // 0.0381, 0.0538, 0.0659, 0.0761.
+    let table = dir.join("steps.csv");
+    let history = table.to_str().unwrap();
+    let mut with_steps = args(&["-reference_axis", "0,1,0", "-load_steps", "4"]);
+    with_steps.extend(["-history_output", history]);
+    let steps = mpirun(2, &with_steps);
+    assert_eq!(steps.status, Some(0), "{}", steps.context());
+    let text = std::fs::read_to_string(&table).unwrap();
+    let head: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let col = head.iter().position(|h| *h == "contact_extent").unwrap();
+    for (k, line) in text.lines().skip(1).enumerate() {
+        let extent: f64 = line.split(',').nth(col).unwrap().parse().unwrap();
+        let hertz = b * ((k + 1) as f64 / 4.0).sqrt();
+        assert!(
+            (extent - hertz).abs() < 0.012,
+            "step {}: {extent} against {hertz}\n{text}",
+            k + 1
+        );
+    }
     // Without the axis: the sphere's formula, and a warning that says why
     // it does not fit.
     let sphere = mpirun(2, &args(&[]));

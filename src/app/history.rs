@@ -194,7 +194,14 @@ fn applied_force<C: Communicator>(
 /// The measures of a step from the gathered rows (rank 0): contact area,
 /// extent from `center` (orthogonal to `n` where given), peak pressure,
 /// and the node counts.
-fn measures(rows: &[ContactRow], d: usize, center: &[f64], n: Option<&[f64]>, row: &mut StepRow) {
+fn measures(
+    rows: &[ContactRow],
+    d: usize,
+    center: &[f64],
+    n: Option<&[f64]>,
+    line: Option<&[f64]>,
+    row: &mut StepRow,
+) {
     for r in rows.iter().filter(|r| r.status != 0) {
         row.contact_nodes += 1;
         match r.status {
@@ -208,6 +215,11 @@ fn measures(rows: &[ContactRow], d: usize, center: &[f64], n: Option<&[f64]>, ro
         if let Some(n) = n {
             let along: f64 = v.iter().zip(n).map(|(a, b)| a * b).sum();
             v.iter_mut().zip(n).for_each(|(a, b)| *a -= along * b);
+        }
+        // (A line contact, `-reference_axis`: from the contact line.)
+        if let Some(l) = line {
+            let along: f64 = v.iter().zip(l).map(|(a, b)| a * b).sum();
+            v.iter_mut().zip(l).for_each(|(a, b)| *a -= along * b);
         }
         let dist = v.iter().map(|a| a * a).sum::<f64>().sqrt();
         row.contact_extent = row.contact_extent.max(dist);
@@ -388,7 +400,8 @@ impl<C: Communicator> ContactProblem<'_, C> {
             } else {
                 nearest.map_or(vec![0.0; d], |r| r.normal[..d].to_vec())
             };
-            measures(&rows, d, &center, Some(&n), &mut row);
+            let line = s.reference.as_ref().and_then(|h| h.line(&n));
+            measures(&rows, d, &center, Some(&n), line.as_deref(), &mut row);
         }
         if let Some(path) = &s.vtk {
             let rows = report::broadcast_rows(world, &rows);
