@@ -114,15 +114,7 @@ fn open_crack(text: &str) -> String {
 /// slave, through the body, are refused as before (`bad_pairs_are_refused`).
 #[test]
 fn a_crack_closed_by_pressure_carries_it() {
-    let dir = scratch("pairs-crack");
-    let plain = dir.join("plain.msh");
-    let run = std::process::Command::new("gmsh")
-        .args(["-2", "-format", "msh22", "-o"])
-        .arg(&plain)
-        .arg(root().join("tests/pairs/crack2d.geo"))
-        .output()
-        .expect("gmsh runs");
-    assert!(run.status.success(), "gmsh failed on crack2d.geo");
+    let (dir, plain) = gmsh_2d("pairs-crack", "tests/pairs/crack2d.geo");
     let msh = dir.join("crack.msh");
     std::fs::write(&msh, open_crack(&std::fs::read_to_string(&plain).unwrap())).unwrap();
     let msh = msh.to_str().unwrap();
@@ -149,19 +141,24 @@ fn a_crack_closed_by_pressure_carries_it() {
         assert!(report.converged, "{}", run.stdout);
         // The crack's nodes but its tip: 28 at h / 2 to h / 4.
         assert!(rows.len() >= 20, "{} candidates", rows.len());
-        for r in &rows {
-            assert!(
-                (r.lambda_n - 10.0).abs() < 1e-7 && r.status != "open",
-                "{ranks} ranks: node {} at {:?}: {} ({})",
-                r.node,
-                r.x,
-                r.lambda_n,
-                r.status
-            );
-        }
+        every_pressure_is(10.0, &rows, ranks);
         assert!(!run.stderr.contains("warning"), "{}", run.stderr);
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Every candidate of `rows` in contact at pressure `p`, to 1e-7.
+fn every_pressure_is(p: f64, rows: &[Row], ranks: usize) {
+    for r in rows {
+        assert!(
+            (r.lambda_n - p).abs() < 1e-7 && r.status != "open",
+            "{ranks} ranks: node {} at {:?}: {} ({})",
+            r.node,
+            r.x,
+            r.lambda_n,
+            r.status
+        );
+    }
 }
 
 /// A C-shaped block closing on itself in 3D (tests/pairs/slot3d.geo): its
@@ -380,15 +377,7 @@ fn a_crack_front_in_3d() {
         let (run, report, rows) = solve_rows(&format!("crack3d-{ranks}"), ranks, &args);
         assert!(report.converged, "{}", run.stdout);
         assert_eq!(rows.len(), 21, "{}", run.stdout);
-        for r in &rows {
-            assert!(
-                (r.lambda_n - 10.0).abs() < 1e-7,
-                "{ranks} ranks: node {} at {:?}: {}",
-                r.node,
-                r.x,
-                r.lambda_n
-            );
-        }
+        every_pressure_is(10.0, &rows, ranks);
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -57,12 +57,11 @@ impl HertzReference {
     ) -> (f64, f64, f64, f64) {
         let dist = self.distance(x, center, n);
         let (p, p0, b) = self.pressure(dim, e_star, dist);
-        let off: f64 = n
-            .iter()
-            .enumerate()
-            .map(|(k, nk)| (x[k] - center[k]) * nk)
-            .sum();
-        let p = if off.abs() > b { 0.0 } else { p };
+        let p = if normal_offset(x, center, n).abs() > b {
+            0.0
+        } else {
+            p
+        };
         (p, p0, b, dist)
     }
 
@@ -117,6 +116,14 @@ pub fn center<'a>(
         .min_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(_, x)| x[..dim].to_vec())
         .unwrap_or(vec![0.0; dim])
+}
+
+/// The component of `x - center` along `n`.
+pub fn normal_offset(x: &[f64], center: &[f64], n: &[f64]) -> f64 {
+    n.iter()
+        .enumerate()
+        .map(|(k, nk)| (x[k] - center[k]) * nk)
+        .sum()
 }
 
 /// `x - center` without its component along `n`.

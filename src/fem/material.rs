@@ -206,18 +206,8 @@ pub fn of_cell(mesh: &LocalMesh, settings: &Settings, c: usize) -> Material {
     }
 }
 
-/// E/(1 - nu^2) of material `m`, or E in plane stress: a body's part of
-/// Hertz's E*.
-fn hertz_modulus(m: &Material, dim: usize, plane_stress: bool) -> f64 {
-    if dim == 2 && plane_stress {
-        m.young
-    } else {
-        m.young / (1.0 - m.nu * m.nu)
-    }
-}
-
 /// Of each side (a list of surface groups), the largest
-/// [`hertz_modulus`] of the local cells that hold one of its facets
+/// [`Material::hertz_modulus`] of the local cells that hold one of its facets
 /// (-infinity where this rank holds none).
 fn side_moduli(mesh: &LocalMesh, settings: &Settings, sides: &[Vec<&str>]) -> Vec<f64> {
     let facets: Vec<Vec<&[usize]>> = sides
@@ -254,7 +244,7 @@ fn side_moduli(mesh: &LocalMesh, settings: &Settings, sides: &[Vec<&str>]) -> Ve
                     let cell = mesh.cells.get(c);
                     if f.iter().all(|v| cell.contains(v)) {
                         let m = of_cell(mesh, settings, c);
-                        e = e.max(hertz_modulus(&m, mesh.dim, plane_stress));
+                        e = e.max(m.hertz_modulus(mesh.dim, plane_stress));
                     }
                 }
             }

@@ -33,6 +33,16 @@ impl Material {
             e * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu))
         }
     }
+
+    /// A body's part of Hertz's E*: `E / (1 - nu^2)`, or `E` in plane
+    /// stress (2D).
+    pub fn hertz_modulus(&self, dim: usize, plane_stress: bool) -> f64 {
+        if dim == 2 && plane_stress {
+            self.young
+        } else {
+            self.young / (1.0 - self.nu * self.nu)
+        }
+    }
 }
 
 /// The options of one body group: what they override.
@@ -190,12 +200,7 @@ impl Settings {
         if let Some(e) = self.contact_e_star {
             return e;
         }
-        let m = self.stiffest(dim);
-        if dim == 2 && self.plane_stress {
-            m.young
-        } else {
-            m.young / (1.0 - m.nu * m.nu)
-        }
+        self.stiffest(dim).hertz_modulus(dim, self.plane_stress)
     }
 }
 

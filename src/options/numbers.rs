@@ -29,7 +29,7 @@ fn nine_digits(x: f64) -> String {
 }
 
 /// "a,b,c" as a user types it.
-fn joined(v: &[f64]) -> String {
+pub(super) fn joined(v: &[f64]) -> String {
     v.iter().map(|&x| shown(x)).collect::<Vec<_>>().join(",")
 }
 

@@ -3,6 +3,7 @@
 //! 3D); their sizes checked against the mesh once it is read.
 
 use super::declared::*;
+use super::numbers::joined;
 use super::{shown, HertzReference, Settings};
 use crate::error::{bad, Error};
 
@@ -34,7 +35,7 @@ pub(super) fn reference() -> Result<Option<HertzReference>, Error> {
     if radii.iter().any(|&r| r == 0.0 || !r.is_finite()) || curvature <= 0.0 {
         return bad(format!(
             "option -reference_radius {}: the surfaces do not curve toward each other (1/R1 + 1/R2 = {} is not positive); a concave surface's radius is negative and must be larger in size than the convex one's",
-            radii.iter().map(|&r| shown(r)).collect::<Vec<_>>().join(","),
+            joined(&radii),
             shown(curvature)
         ));
     }
@@ -87,17 +88,11 @@ impl Settings {
             if reference.line(n).is_none() {
                 return bad(format!(
                     "option -reference_axis {}: it lies within 25 degrees of -contact_direction {}; the axis of a cylinder on its side runs across the contact direction",
-                    shown_vector(axis),
-                    shown_vector(n)
+                    joined(axis),
+                    joined(n)
                 ));
             }
         }
         Ok(())
     }
-}
-
-/// "0,1,0": a vector as an option writes it.
-fn shown_vector(v: &[f64]) -> String {
-    let words: Vec<String> = v.iter().map(|&x| shown(x)).collect();
-    words.join(",")
 }

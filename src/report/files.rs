@@ -188,13 +188,7 @@ fn near_side(
     n: &[f64],
     coordinate: impl Fn(&ContactRow) -> f64,
 ) -> Vec<usize> {
-    let off = |r: &ContactRow| -> f64 {
-        n.iter()
-            .enumerate()
-            .map(|(k, nk)| (r.x[k] - center[k]) * nk)
-            .sum::<f64>()
-            .abs()
-    };
+    let off = |r: &ContactRow| hertz::normal_offset(&r.x, center, n).abs();
     let touching = rows.iter().filter(|r| r.status != 0);
     let (along, across) = touching.fold((0.0f64, 0.0f64), |(a, c), r| {
         (a.max(coordinate(r).abs()), c.max(off(r)))
